@@ -1,0 +1,11 @@
+#pragma once
+// Inertial mass.
+#include <cstdint>
+
+#include "engine/world.hpp"
+
+namespace granflow {
+struct Mass : Column<double> {
+  static constexpr const char* key = "mass";
+};
+}  // namespace granflow

@@ -1,0 +1,11 @@
+#pragma once
+// Hard-core radius.
+#include <cstdint>
+
+#include "engine/world.hpp"
+
+namespace granflow {
+struct Radius : Column<double> {
+  static constexpr const char* key = "radius";
+};
+}  // namespace granflow

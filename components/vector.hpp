@@ -1,0 +1,7 @@
+#pragma once
+#include <Eigen/Core>
+
+namespace granflow {
+template <int D>
+using Vec = Eigen::Matrix<double, D, 1>;
+}

@@ -1,0 +1,135 @@
+#include "engine/cli.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <tbb/global_control.h>
+#include <unistd.h>
+
+#include <memory>
+#include <optional>
+
+#include "engine/config.hpp"
+#include "engine/h5_handle.hpp"
+#include "engine/h5md_reader.hpp"
+#include "engine/scenario_registry.hpp"
+#include "systems/initial/random_placement.hpp"
+
+namespace granflow {
+
+namespace {
+
+constexpr int exit_bad_input = 2;
+
+int run_command(const std::string& file, const std::vector<std::string>& overrides, RunOptions options) {
+  const std::string name = scenario_name_of(file);
+  const ScenarioInfo* scenario = find_scenario(name);
+  if (!scenario) {
+    std::string known;
+    for (const auto& s : all_scenarios()) known += (known.empty() ? "" : ", ") + s.name;
+    throw ConfigError(fmt::format("unknown scenario '{}' in {}; known scenarios: {}", name, file, known));
+  }
+  Config config = Config::from_file(scenario->schema(), file);
+  for (const auto& assignment : overrides) config.apply_override(assignment);
+  std::optional<tbb::global_control> threads;
+  if (options.threads > 0)
+    threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
+  return scenario->run(config, options);
+}
+
+void list_command() {
+  fmt::print("scenarios:\n");
+  for (const auto& s : all_scenarios()) fmt::print("  {:<28} {}\n", s.name, s.summary);
+  fmt::print("systems:\n");
+  for (const auto& s : systems_catalogue()) fmt::print("  {:<32} {}\n", s.name, s.summary);
+}
+
+void keys_command(const std::string& name) {
+  const ScenarioInfo* scenario = find_scenario(name);
+  if (!scenario) throw ConfigError(fmt::format("unknown scenario '{}' (see `granflow list`)", name));
+  for (const auto& spec : scenario->schema().keys())
+    fmt::print("{:<40} = {:<22} # {}; {}\n", spec.key, to_string(spec.default_value), spec.help, spec.allowed());
+}
+
+void info_command(const std::string& path) {
+  H5mdReader reader(path);
+  fmt::print("{}\n", path);
+  if (reader.exists("/h5md/creator"))
+    fmt::print("  created by {} {}\n", reader.string_attribute("/h5md/creator", "name"),
+               reader.string_attribute("/h5md/creator", "version"));
+  if (reader.exists("/parameters")) {
+    fmt::print("  scenario: {}\n", reader.string_attribute("/parameters", "scenario"));
+    if (reader.exists("/parameters/run")) fmt::print("  seed: {}\n", reader.integer_attribute("/parameters/run", "seed"));
+  }
+  if (reader.exists("/observables"))
+    try {
+      fmt::print("  stop: {}\n", reader.string_attribute("/observables", "stop_reason"));
+    } catch (const H5Error&) {
+    }
+  fmt::print("datasets:\n{}", reader.describe());
+  if (reader.exists("/parameters/toml")) fmt::print("configuration:\n{}", reader.string_dataset("/parameters/toml"));
+}
+
+}  // namespace
+
+int command_line_main(int argc, char** argv) {
+  spdlog::set_pattern("[%H:%M:%S] %^%l%$: %v");
+  CLI::App app{"granflow: simulation of granular gases and flows"};
+  app.require_subcommand(1);
+
+  std::string file;
+  std::vector<std::string> overrides;
+  RunOptions options;
+  bool quiet = false;
+  auto* run = app.add_subcommand("run", "run a scenario from a TOML file");
+  run->add_option("file", file, "scenario configuration (.toml)")->required();
+  run->add_option("--set", overrides, "override a key: section.key=value (repeatable)");
+  run->add_option("-o,--output", options.output_path, "output file (H5MD)");
+  run->add_option("--threads", options.threads, "worker threads (default: all cores)")->check(CLI::Range(1, 4096));
+  run->add_flag("--profile", options.profile, "print per-system timings (always stored under /profile)");
+  run->add_flag("-q,--quiet", quiet, "no progress or info messages");
+
+  auto* list = app.add_subcommand("list", "list scenarios and systems");
+  std::string info_path;
+  auto* info = app.add_subcommand("info", "describe a result file");
+  info->add_option("file", info_path, "H5MD result file")->required();
+  std::string keys_name;
+  auto* keys = app.add_subcommand("keys", "list a scenario's configuration keys with defaults and ranges");
+  keys->add_option("scenario", keys_name, "scenario name")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    const int code = app.exit(error);
+    return code == 0 ? 0 : exit_bad_input;
+  }
+
+  try {
+    if (*run) {
+      if (quiet) spdlog::set_level(spdlog::level::warn);
+      options.progress = !quiet;
+      return run_command(file, overrides, options);
+    }
+    if (*list) list_command();
+    if (*info) info_command(info_path);
+    if (*keys) keys_command(keys_name);
+    return 0;
+  } catch (const ConfigError& error) {
+    spdlog::error("{}", error.what());
+    return exit_bad_input;
+  } catch (const PlacementError& error) {
+    spdlog::error("{}", error.what());
+    return exit_bad_input;
+  } catch (const std::invalid_argument& error) {
+    spdlog::error("{}", error.what());
+    return exit_bad_input;
+  } catch (const H5Error& error) {
+    spdlog::error("{}", error.what());
+    return 1;
+  } catch (const std::exception& error) {
+    spdlog::error("{}", error.what());
+    return 1;
+  }
+}
+
+}  // namespace granflow

@@ -1,0 +1,316 @@
+#include "engine/config.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <toml++/toml.h>
+
+namespace granflow {
+
+namespace {
+
+const char* type_name(ValueType type) {
+  switch (type) {
+    case ValueType::integer: return "an integer";
+    case ValueType::real: return "a number";
+    case ValueType::boolean: return "true or false";
+    case ValueType::string: return "a string";
+  }
+  return "?";
+}
+
+std::string format_real(double value) {
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  return fmt::format("{}", value);
+}
+
+std::string join(const std::vector<std::string>& items, const std::string& separator) {
+  std::string out;
+  for (std::size_t k = 0; k < items.size(); ++k) out += (k ? separator : "") + items[k];
+  return out;
+}
+
+// Converts a TOML leaf to the declared type, or explains why it cannot.
+ConfigValue from_toml_node(const KeySpec& spec, const toml::node& node) {
+  switch (spec.type) {
+    case ValueType::integer:
+      if (auto v = node.value_exact<std::int64_t>()) return *v;
+      break;
+    case ValueType::real:
+      if (auto v = node.value_exact<double>()) return *v;
+      if (auto v = node.value_exact<std::int64_t>()) return static_cast<double>(*v);
+      break;
+    case ValueType::boolean:
+      if (auto v = node.value_exact<bool>()) return *v;
+      break;
+    case ValueType::string:
+      if (auto v = node.value_exact<std::string>()) return *v;
+      break;
+  }
+  std::ostringstream shown;
+  node.visit([&](const auto& value) { shown << value; });
+  throw ConfigError(fmt::format("configuration key '{}' must be {}, got {}", spec.key, type_name(spec.type),
+                                shown.str()));
+}
+
+ConfigValue from_text(const KeySpec& spec, std::string text) {
+  const auto fail = [&] {
+    return ConfigError(
+        fmt::format("configuration key '{}' must be {}, got '{}'", spec.key, type_name(spec.type), text));
+  };
+  switch (spec.type) {
+    case ValueType::integer: {
+      std::int64_t value = 0;
+      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+      if (ec != std::errc() || end != text.data() + text.size() || text.empty()) throw fail();
+      return value;
+    }
+    case ValueType::real: {
+      double value = 0;
+      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+      if (ec != std::errc() || end != text.data() + text.size() || text.empty()) throw fail();
+      return value;
+    }
+    case ValueType::boolean:
+      if (text == "true") return true;
+      if (text == "false") return false;
+      throw fail();
+    case ValueType::string:
+      if (text.size() >= 2 && (text.front() == '"' || text.front() == '\'') && text.back() == text.front())
+        text = text.substr(1, text.size() - 2);
+      return text;
+  }
+  throw fail();
+}
+
+void collect_leaves(const toml::table& table, const std::string& prefix,
+                    std::vector<std::pair<std::string, const toml::node*>>& leaves) {
+  for (const auto& [name, node] : table) {
+    const std::string key = prefix.empty() ? std::string(name.str()) : prefix + "." + std::string(name.str());
+    if (const auto* sub = node.as_table())
+      collect_leaves(*sub, key, leaves);
+    else
+      leaves.emplace_back(key, &node);
+  }
+}
+
+}  // namespace
+
+std::string KeySpec::allowed() const {
+  if (!choices.empty()) return "one of: " + join(choices, ", ");
+  switch (type) {
+    case ValueType::boolean: return "true or false";
+    case ValueType::string: return "a string";
+    default: break;
+  }
+  return fmt::format("{} in {}{}, {}]", type == ValueType::integer ? "an integer" : "a number",
+                     min_exclusive ? "(" : "[", format_real(min), format_real(max));
+}
+
+ConfigSchema& ConfigSchema::add(KeySpec spec) {
+  if (find(spec.key)) throw std::logic_error("configuration key declared twice: " + spec.key);
+  keys_.push_back(std::move(spec));
+  return *this;
+}
+
+ConfigSchema& ConfigSchema::integer(const std::string& key, std::int64_t def, std::int64_t min, std::int64_t max,
+                                    const std::string& help) {
+  return add({key, ValueType::integer, def, static_cast<double>(min), static_cast<double>(max), false, {}, help});
+}
+
+ConfigSchema& ConfigSchema::real(const std::string& key, double def, double min, double max, const std::string& help,
+                                 bool min_exclusive) {
+  return add({key, ValueType::real, def, min, max, min_exclusive, {}, help});
+}
+
+ConfigSchema& ConfigSchema::boolean(const std::string& key, bool def, const std::string& help) {
+  return add({key, ValueType::boolean, def, 0, 0, false, {}, help});
+}
+
+ConfigSchema& ConfigSchema::choice(const std::string& key, const std::string& def, std::vector<std::string> choices,
+                                   const std::string& help) {
+  return add({key, ValueType::string, def, 0, 0, false, std::move(choices), help});
+}
+
+ConfigSchema& ConfigSchema::text(const std::string& key, const std::string& def, const std::string& help) {
+  return add({key, ValueType::string, def, 0, 0, false, {}, help});
+}
+
+const KeySpec* ConfigSchema::find(const std::string& key) const {
+  for (const auto& spec : keys_)
+    if (spec.key == key) return &spec;
+  return nullptr;
+}
+
+Config::Config(const ConfigSchema& schema) : schema_(&schema) {
+  for (const auto& spec : schema.keys()) values_[spec.key] = spec.default_value;
+}
+
+Config Config::from_toml_text(const ConfigSchema& schema, const std::string& text, const std::string& origin) {
+  Config config(schema);
+  toml::table table;
+  try {
+    table = toml::parse(text, origin);
+  } catch (const toml::parse_error& error) {
+    std::ostringstream what;
+    what << error.description() << " (" << error.source() << ")";
+    throw ConfigError(fmt::format("cannot parse {}: {}", origin, what.str()));
+  }
+  std::vector<std::pair<std::string, const toml::node*>> leaves;
+  collect_leaves(table, "", leaves);
+  for (const auto& [key, node] : leaves) {
+    const KeySpec* spec = schema.find(key);
+    if (!spec) {
+      std::vector<std::string> known;
+      for (const auto& s : schema.keys()) known.push_back(s.key);
+      throw ConfigError(fmt::format("unknown configuration key '{}' in {}; known keys: {}", key, origin,
+                                    join(known, ", ")));
+    }
+    config.set(key, from_toml_node(*spec, *node));
+  }
+  return config;
+}
+
+Config Config::from_file(const ConfigSchema& schema, const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ConfigError(fmt::format("cannot open configuration file '{}'", path));
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return from_toml_text(schema, buffer.str(), path);
+}
+
+void Config::apply_override(const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw ConfigError(fmt::format("--set expects section.key=value, got '{}'", assignment));
+  const std::string key = assignment.substr(0, eq);
+  set(key, from_text(spec(key), assignment.substr(eq + 1)));
+}
+
+void Config::set(const std::string& key, const ConfigValue& value) {
+  const KeySpec& s = spec(key);
+  ConfigValue converted = value;
+  if (s.type == ValueType::real && std::holds_alternative<std::int64_t>(value))
+    converted = static_cast<double>(std::get<std::int64_t>(value));
+  check(s, converted);
+  values_[key] = converted;
+}
+
+const KeySpec& Config::spec(const std::string& key) const {
+  if (!schema_) throw std::logic_error("configuration has no schema");
+  const KeySpec* s = schema_->find(key);
+  if (!s) {
+    std::vector<std::string> known;
+    for (const auto& k : schema_->keys()) known.push_back(k.key);
+    throw ConfigError(fmt::format("unknown configuration key '{}'; known keys: {}", key, join(known, ", ")));
+  }
+  return *s;
+}
+
+void Config::check(const KeySpec& s, const ConfigValue& value) const {
+  const auto out_of_range = [&](const std::string& shown) {
+    return ConfigError(fmt::format("configuration key '{}' = {} is out of range: allowed is {}", s.key, shown,
+                                   s.allowed()));
+  };
+  switch (s.type) {
+    case ValueType::integer: {
+      if (!std::holds_alternative<std::int64_t>(value))
+        throw ConfigError(fmt::format("configuration key '{}' must be an integer", s.key));
+      const auto v = static_cast<double>(std::get<std::int64_t>(value));
+      if (v < s.min || v > s.max) throw out_of_range(std::to_string(std::get<std::int64_t>(value)));
+      break;
+    }
+    case ValueType::real: {
+      if (!std::holds_alternative<double>(value))
+        throw ConfigError(fmt::format("configuration key '{}' must be a number", s.key));
+      const double v = std::get<double>(value);
+      if (!std::isfinite(v) && !(std::isinf(v) && std::isinf(s.max) && v > 0))
+        throw out_of_range(format_real(v));
+      if (v > s.max || v < s.min || (s.min_exclusive && v == s.min)) throw out_of_range(format_real(v));
+      break;
+    }
+    case ValueType::boolean:
+      if (!std::holds_alternative<bool>(value))
+        throw ConfigError(fmt::format("configuration key '{}' must be true or false", s.key));
+      break;
+    case ValueType::string: {
+      if (!std::holds_alternative<std::string>(value))
+        throw ConfigError(fmt::format("configuration key '{}' must be a string", s.key));
+      const auto& v = std::get<std::string>(value);
+      if (!s.choices.empty() && std::find(s.choices.begin(), s.choices.end(), v) == s.choices.end())
+        throw ConfigError(fmt::format("configuration key '{}' = '{}' is not allowed: use {}", s.key, v,
+                                      s.allowed()));
+      break;
+    }
+  }
+}
+
+const ConfigValue& Config::get(const std::string& key) const {
+  spec(key);
+  return values_.at(key);
+}
+
+std::int64_t Config::integer(const std::string& key) const { return std::get<std::int64_t>(get(key)); }
+double Config::real(const std::string& key) const { return std::get<double>(get(key)); }
+bool Config::boolean(const std::string& key) const { return std::get<bool>(get(key)); }
+const std::string& Config::text(const std::string& key) const { return std::get<std::string>(get(key)); }
+
+std::string to_string(const ConfigValue& value) {
+  return std::visit(
+      [](const auto& v) -> std::string {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, std::string>) {
+          std::ostringstream out;
+          out << toml::value<std::string>(v);
+          return out.str();
+        } else if constexpr (std::is_same_v<T, bool>) {
+          return v ? "true" : "false";
+        } else if constexpr (std::is_same_v<T, double>) {
+          if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+          std::string shown = fmt::format("{}", v);
+          if (shown.find_first_of(".eEn") == std::string::npos) shown += ".0";
+          return shown;
+        } else {
+          return std::to_string(v);
+        }
+      },
+      value);
+}
+
+std::string Config::to_toml() const {
+  std::map<std::string, std::vector<std::pair<std::string, std::string>>> sections;
+  std::string top;
+  for (const auto& [key, value] : values_) {
+    const auto dot = key.rfind('.');
+    if (dot == std::string::npos)
+      top += key + " = " + to_string(value) + "\n";
+    else
+      sections[key.substr(0, dot)].emplace_back(key.substr(dot + 1), to_string(value));
+  }
+  std::string out = top;
+  for (const auto& [section, entries] : sections) {
+    out += "\n[" + section + "]\n";
+    for (const auto& [name, value] : entries) out += name + " = " + value + "\n";
+  }
+  return out;
+}
+
+std::string scenario_name_of(const std::string& path) {
+  toml::table table;
+  try {
+    table = toml::parse_file(path);
+  } catch (const toml::parse_error& error) {
+    std::ostringstream what;
+    what << error.description() << " (" << error.source() << ")";
+    throw ConfigError(fmt::format("cannot parse {}: {}", path, what.str()));
+  }
+  const auto name = table["scenario"].value<std::string>();
+  if (!name) throw ConfigError(fmt::format("configuration file '{}' has no top-level key 'scenario'", path));
+  return *name;
+}
+
+}  // namespace granflow

@@ -1,0 +1,95 @@
+#pragma once
+// Typed, validated configuration. A scenario declares every key it accepts
+// (type, default, allowed range or choices, meaning); a TOML file and
+// `--set section.key=value` overrides are checked against that schema, so a
+// misspelt key or an impossible value stops the run before it starts.
+
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace granflow {
+
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+using ConfigValue = std::variant<std::int64_t, double, bool, std::string>;
+
+enum class ValueType { integer, real, boolean, string };
+
+struct KeySpec {
+  std::string key;
+  ValueType type = ValueType::real;
+  ConfigValue default_value;
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+  bool min_exclusive = false;
+  std::vector<std::string> choices;
+  std::string help;
+
+  std::string allowed() const;  // human-readable range or choice list
+};
+
+class ConfigSchema {
+ public:
+  ConfigSchema& integer(const std::string& key, std::int64_t def, std::int64_t min, std::int64_t max,
+                        const std::string& help);
+  // Real in [min, max], or (min, max] when min_exclusive.
+  ConfigSchema& real(const std::string& key, double def, double min, double max, const std::string& help,
+                     bool min_exclusive = false);
+  ConfigSchema& boolean(const std::string& key, bool def, const std::string& help);
+  ConfigSchema& choice(const std::string& key, const std::string& def, std::vector<std::string> choices,
+                       const std::string& help);
+  ConfigSchema& text(const std::string& key, const std::string& def, const std::string& help);
+
+  const KeySpec* find(const std::string& key) const;
+  const std::vector<KeySpec>& keys() const { return keys_; }
+
+ private:
+  ConfigSchema& add(KeySpec spec);
+  std::vector<KeySpec> keys_;
+};
+
+class Config {
+ public:
+  Config() = default;
+  // All keys at their defaults.
+  explicit Config(const ConfigSchema& schema);
+
+  static Config from_toml_text(const ConfigSchema& schema, const std::string& text, const std::string& origin);
+  static Config from_file(const ConfigSchema& schema, const std::string& path);
+
+  // "section.key=value"; the value is parsed as the key's declared type.
+  void apply_override(const std::string& assignment);
+  void set(const std::string& key, const ConfigValue& value);
+
+  std::int64_t integer(const std::string& key) const;
+  double real(const std::string& key) const;
+  bool boolean(const std::string& key) const;
+  const std::string& text(const std::string& key) const;
+
+  const std::map<std::string, ConfigValue>& values() const { return values_; }
+  const ConfigSchema& schema() const { return *schema_; }
+  std::string to_toml() const;
+
+ private:
+  const KeySpec& spec(const std::string& key) const;
+  const ConfigValue& get(const std::string& key) const;
+  void check(const KeySpec& spec, const ConfigValue& value) const;
+
+  const ConfigSchema* schema_ = nullptr;
+  std::map<std::string, ConfigValue> values_;
+};
+
+// Reads only the top-level `scenario` key of a configuration file.
+std::string scenario_name_of(const std::string& path);
+
+std::string to_string(const ConfigValue& value);
+
+}  // namespace granflow

@@ -1,0 +1,275 @@
+#include "engine/h5md_file.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "engine/config.hpp"
+
+namespace granflow {
+
+namespace {
+
+constexpr hsize_t frames_per_chunk = 64;
+
+H5Handle string_type(std::size_t fixed_length = 0) {
+  H5Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "copy string type");
+  h5_check(H5Tset_size(type, fixed_length ? fixed_length : H5T_VARIABLE), "set string size");
+  h5_check(H5Tset_cset(type, H5T_CSET_UTF8), "set string charset");
+  return type;
+}
+
+void write_string_attribute(hid_t object, const std::string& name, const std::string& value) {
+  H5Handle type = string_type();
+  H5Handle space(H5Screate(H5S_SCALAR), H5Sclose, "create scalar space");
+  if (H5Aexists(object, name.c_str()) > 0) h5_check(H5Adelete(object, name.c_str()), "replace attribute " + name);
+  H5Handle attribute(H5Acreate2(object, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+                     "create attribute " + name);
+  const char* text = value.c_str();
+  h5_check(H5Awrite(attribute, type, &text), "write attribute " + name);
+}
+
+template <class T>
+void write_numeric_attribute(hid_t object, const std::string& name, hid_t mem_type, const std::vector<T>& values) {
+  const hsize_t size = values.size();
+  H5Handle space(values.size() == 1 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &size, nullptr), H5Sclose,
+                 "create attribute space");
+  if (H5Aexists(object, name.c_str()) > 0) h5_check(H5Adelete(object, name.c_str()), "replace attribute " + name);
+  H5Handle attribute(H5Acreate2(object, name.c_str(), mem_type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+                     "create attribute " + name);
+  h5_check(H5Awrite(attribute, mem_type, values.data()), "write attribute " + name);
+}
+
+void write_string_array_attribute(hid_t object, const std::string& name, const std::vector<std::string>& values) {
+  std::size_t width = 1;
+  for (const auto& v : values) width = std::max(width, v.size() + 1);
+  std::vector<char> packed(width * values.size(), '\0');
+  for (std::size_t k = 0; k < values.size(); ++k) values[k].copy(packed.data() + k * width, values[k].size());
+  H5Handle type = string_type(width);
+  h5_check(H5Tset_strpad(type, H5T_STR_NULLTERM), "set string padding");
+  const hsize_t size = values.size();
+  H5Handle space(H5Screate_simple(1, &size, nullptr), H5Sclose, "create attribute space");
+  H5Handle attribute(H5Acreate2(object, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+                     "create attribute " + name);
+  h5_check(H5Awrite(attribute, type, packed.data()), "write attribute " + name);
+}
+
+void write_dataset(hid_t parent, const std::string& name, hid_t mem_type, const void* data,
+                   const std::vector<hsize_t>& shape) {
+  H5Handle space(shape.empty() ? H5Screate(H5S_SCALAR)
+                               : H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr),
+                 H5Sclose, "create space for " + name);
+  H5Handle dataset(H5Dcreate2(parent, name.c_str(), mem_type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                   H5Dclose, "create dataset " + name);
+  h5_check(H5Dwrite(dataset, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write dataset " + name);
+}
+
+void write_string_dataset(hid_t parent, const std::string& name, const std::vector<std::string>& values,
+                          bool scalar) {
+  std::vector<const char*> pointers;
+  for (const auto& v : values) pointers.push_back(v.c_str());
+  H5Handle type = string_type();
+  write_dataset(parent, name, type, pointers.data(),
+                scalar ? std::vector<hsize_t>{} : std::vector<hsize_t>{values.size()});
+}
+
+H5Handle create_extendible(hid_t parent, const std::string& name, hid_t type, const std::vector<hsize_t>& inner) {
+  std::vector<hsize_t> dims{0}, max_dims{H5S_UNLIMITED}, chunk{frames_per_chunk};
+  hsize_t inner_count = 1;
+  for (hsize_t extent : inner) {
+    dims.push_back(extent);
+    max_dims.push_back(extent);
+    inner_count *= extent;
+  }
+  // Large frames (whole particle arrays) go one frame per chunk.
+  if (inner_count > 4096) chunk[0] = 1;
+  for (hsize_t extent : inner) chunk.push_back(extent);
+  H5Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), max_dims.data()), H5Sclose,
+                 "create extendible space for " + name);
+  H5Handle properties(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "create dataset properties");
+  h5_check(H5Pset_chunk(properties, static_cast<int>(chunk.size()), chunk.data()), "set chunking for " + name);
+  return H5Handle(H5Dcreate2(parent, name.c_str(), type, space, H5P_DEFAULT, properties, H5P_DEFAULT), H5Dclose,
+                  "create dataset " + name);
+}
+
+void append_frame(hid_t dataset, hid_t mem_type, hsize_t frame, const void* data, const std::vector<hsize_t>& inner,
+                  const std::string& what) {
+  std::vector<hsize_t> dims{frame + 1}, start{frame}, count{1};
+  for (hsize_t extent : inner) {
+    dims.push_back(extent);
+    start.push_back(0);
+    count.push_back(extent);
+  }
+  h5_check(H5Dset_extent(dataset, dims.data()), "extend " + what);
+  H5Handle file_space(H5Dget_space(dataset), H5Sclose, "get space of " + what);
+  h5_check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
+           "select frame of " + what);
+  H5Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), H5Sclose,
+                        "create memory space");
+  h5_check(H5Dwrite(dataset, mem_type, memory_space, file_space, H5P_DEFAULT, data), "append to " + what);
+}
+
+}  // namespace
+
+struct H5mdFile::Series {
+  H5Handle step;
+  H5Handle time;
+  H5Handle value;
+  std::vector<hsize_t> shape;
+  hsize_t frames = 0;
+};
+
+H5mdFile::H5mdFile(const std::string& path, const std::string& scenario)
+    : path_(path), partial_path_(path + ".partial") {
+  h5_quiet();
+  file_ = H5Handle(H5Fcreate(partial_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
+                   "create output file '" + partial_path_ + "'");
+  const hid_t h5md = group("/h5md");
+  write_numeric_attribute<int>(h5md, "version", H5T_NATIVE_INT, {1, 1});
+  const hid_t creator = group("/h5md/creator");
+  write_string_attribute(creator, "name", "granflow");
+  write_string_attribute(creator, "version", "0.1.0");
+  const hid_t author = group("/h5md/author");
+  write_string_attribute(author, "name", "granflow user");
+  write_string_attribute(group("/parameters"), "scenario", scenario);
+}
+
+H5mdFile::~H5mdFile() = default;
+
+hid_t H5mdFile::group(const std::string& path) {
+  auto it = groups_.find(path);
+  if (it != groups_.end()) return it->second;
+  const auto slash = path.rfind('/');
+  const hid_t parent = slash == 0 ? file_.get() : group(path.substr(0, slash));
+  const std::string name = path.substr(slash + 1);
+  hid_t id = H5Lexists(parent, name.c_str(), H5P_DEFAULT) > 0 ? H5Gopen2(parent, name.c_str(), H5P_DEFAULT)
+                                                                : H5Gcreate2(parent, name.c_str(), H5P_DEFAULT,
+                                                                             H5P_DEFAULT, H5P_DEFAULT);
+  auto [inserted, ok] = groups_.emplace(path, H5Handle(id, H5Gclose, "open group " + path));
+  return inserted->second;
+}
+
+void H5mdFile::write_parameters(const Config& config) {
+  const hid_t parameters = group("/parameters");
+  write_string_dataset(parameters, "toml", {config.to_toml()}, true);
+  for (const auto& [key, value] : config.values()) {
+    const auto dot = key.rfind('.');
+    const hid_t target = dot == std::string::npos ? parameters : group("/parameters/" + key.substr(0, dot));
+    const std::string name = dot == std::string::npos ? key : key.substr(dot + 1);
+    if (const auto* v = std::get_if<std::int64_t>(&value))
+      write_numeric_attribute<std::int64_t>(target, name, H5T_NATIVE_INT64, {*v});
+    else if (const auto* d = std::get_if<double>(&value))
+      write_numeric_attribute<double>(target, name, H5T_NATIVE_DOUBLE, {*d});
+    else if (const auto* b = std::get_if<bool>(&value))
+      write_numeric_attribute<int>(target, name, H5T_NATIVE_INT, {*b ? 1 : 0});
+    else
+      write_string_attribute(target, name, std::get<std::string>(value));
+  }
+}
+
+void H5mdFile::write_box(const std::vector<double>& edges, const std::vector<std::string>& boundary) {
+  const hid_t box = group("/particles/all/box");
+  write_numeric_attribute<int>(box, "dimension", H5T_NATIVE_INT, {static_cast<int>(edges.size())});
+  write_string_array_attribute(box, "boundary", boundary);
+  write_dataset(box, "edges", H5T_NATIVE_DOUBLE, edges.data(), {edges.size()});
+}
+
+void H5mdFile::write_particle_constant(const std::string& name, const std::vector<double>& data,
+                                       std::size_t components) {
+  const hid_t particles = group("/particles/all");
+  std::vector<hsize_t> shape{data.size() / components};
+  if (components > 1) shape.push_back(components);
+  write_dataset(particles, name, H5T_NATIVE_DOUBLE, data.data(), shape);
+}
+
+H5mdFile::Series& H5mdFile::series(const std::string& group_path, std::size_t value_count,
+                                   const std::vector<hsize_t>& value_shape) {
+  auto it = series_.find(group_path);
+  if (it != series_.end()) {
+    hsize_t expected = 1;
+    for (hsize_t e : it->second->shape) expected *= e;
+    if (expected != value_count) throw H5Error("value shape changed between frames of " + group_path);
+    return *it->second;
+  }
+  const hid_t g = group(group_path);
+  auto s = std::make_unique<Series>();
+  s->shape = value_shape;
+  s->step = create_extendible(g, "step", H5T_NATIVE_INT64, {});
+  s->time = create_extendible(g, "time", H5T_NATIVE_DOUBLE, {});
+  s->value = create_extendible(g, "value", H5T_NATIVE_DOUBLE, value_shape);
+  return *series_.emplace(group_path, std::move(s)).first->second;
+}
+
+void H5mdFile::append_particle_frame(const std::string& name, std::int64_t step, double time,
+                                     const std::vector<double>& data, std::size_t components) {
+  std::vector<hsize_t> shape{data.size() / components};
+  if (components > 1) shape.push_back(components);
+  Series& s = series("/particles/all/" + name, data.size(), shape);
+  append_frame(s.step, H5T_NATIVE_INT64, s.frames, &step, {}, name + "/step");
+  append_frame(s.time, H5T_NATIVE_DOUBLE, s.frames, &time, {}, name + "/time");
+  append_frame(s.value, H5T_NATIVE_DOUBLE, s.frames, data.data(), s.shape, name + "/value");
+  ++s.frames;
+}
+
+void H5mdFile::append_observable(const std::string& name, std::int64_t step, double time, double value) {
+  Series& s = series("/observables/" + name, 1, {});
+  append_frame(s.step, H5T_NATIVE_INT64, s.frames, &step, {}, name + "/step");
+  append_frame(s.time, H5T_NATIVE_DOUBLE, s.frames, &time, {}, name + "/time");
+  append_frame(s.value, H5T_NATIVE_DOUBLE, s.frames, &value, {}, name + "/value");
+  ++s.frames;
+}
+
+void H5mdFile::append_observable(const std::string& name, std::int64_t step, double time,
+                                 const std::vector<double>& value) {
+  Series& s = series("/observables/" + name, value.size(), {value.size()});
+  append_frame(s.step, H5T_NATIVE_INT64, s.frames, &step, {}, name + "/step");
+  append_frame(s.time, H5T_NATIVE_DOUBLE, s.frames, &time, {}, name + "/time");
+  append_frame(s.value, H5T_NATIVE_DOUBLE, s.frames, value.data(), s.shape, name + "/value");
+  ++s.frames;
+}
+
+void H5mdFile::write_observable_constant(const std::string& name, const std::vector<double>& value) {
+  const hid_t observables = group("/observables");
+  write_dataset(observables, name, H5T_NATIVE_DOUBLE, value.data(), {value.size()});
+}
+
+void H5mdFile::write_profile(const std::vector<ProfileEntry>& entries) {
+  const hid_t profile = group("/profile");
+  std::vector<std::string> names;
+  std::vector<std::uint64_t> calls;
+  std::vector<double> total, mean;
+  for (const auto& e : entries) {
+    names.push_back(e.system);
+    calls.push_back(e.calls);
+    total.push_back(e.total_seconds);
+    mean.push_back(e.mean_seconds());
+  }
+  const std::vector<hsize_t> shape{entries.size()};
+  write_string_dataset(profile, "system", names, false);
+  write_dataset(profile, "calls", H5T_NATIVE_UINT64, calls.data(), shape);
+  write_dataset(profile, "total_seconds", H5T_NATIVE_DOUBLE, total.data(), shape);
+  write_dataset(profile, "mean_seconds", H5T_NATIVE_DOUBLE, mean.data(), shape);
+}
+
+void H5mdFile::write_attribute(const std::string& path, const std::string& name, const std::string& value) {
+  write_string_attribute(group(path), name, value);
+}
+
+void H5mdFile::write_attribute(const std::string& path, const std::string& name, double value) {
+  write_numeric_attribute<double>(group(path), name, H5T_NATIVE_DOUBLE, {value});
+}
+
+void H5mdFile::flush() { h5_check(H5Fflush(file_, H5F_SCOPE_GLOBAL), "flush " + partial_path_); }
+
+void H5mdFile::finish() {
+  if (finished_) return;
+  series_.clear();
+  groups_.clear();
+  file_.close("close output file '" + partial_path_ + "'");
+  std::error_code error;
+  std::filesystem::rename(partial_path_, path_, error);
+  if (error) throw H5Error("cannot move '" + partial_path_ + "' to '" + path_ + "': " + error.message());
+  finished_ = true;
+}
+
+}  // namespace granflow

@@ -1,0 +1,60 @@
+#pragma once
+// Writes H5MD 1.1 result files. The file is built under "<path>.partial" and
+// renamed to <path> only by finish(), so an interrupted run never leaves a
+// truncated file under the name a user expects to be complete.
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/h5_handle.hpp"
+#include "engine/profiler.hpp"
+
+namespace granflow {
+
+class Config;
+
+class H5mdFile {
+ public:
+  H5mdFile(const std::string& path, const std::string& scenario);
+  ~H5mdFile();
+  H5mdFile(const H5mdFile&) = delete;
+  H5mdFile& operator=(const H5mdFile&) = delete;
+
+  const std::string& path() const { return path_; }
+
+  void write_parameters(const Config& config);
+  // boundary per axis: "periodic" or "none" (H5MD's words)
+  void write_box(const std::vector<double>& edges, const std::vector<std::string>& boundary);
+  // Time-independent per-particle data, shape [count, components] (components 1 gives [count]).
+  void write_particle_constant(const std::string& name, const std::vector<double>& data, std::size_t components);
+  // One frame of a time-dependent per-particle element, shape [frames, count, components].
+  void append_particle_frame(const std::string& name, std::int64_t step, double time,
+                             const std::vector<double>& data, std::size_t components);
+  void append_observable(const std::string& name, std::int64_t step, double time, double value);
+  void append_observable(const std::string& name, std::int64_t step, double time, const std::vector<double>& value);
+  // A fixed, time-independent observable (a histogram's bin edges, a fitted constant).
+  void write_observable_constant(const std::string& name, const std::vector<double>& value);
+  void write_profile(const std::vector<ProfileEntry>& entries);
+  void write_attribute(const std::string& group, const std::string& name, const std::string& value);
+  void write_attribute(const std::string& group, const std::string& name, double value);
+  void flush();
+  // Closes the file and moves it to its final name.
+  void finish();
+
+ private:
+  hid_t group(const std::string& path);
+  struct Series;
+  Series& series(const std::string& group_path, std::size_t value_count, const std::vector<hsize_t>& value_shape);
+
+  std::string path_;
+  std::string partial_path_;
+  H5Handle file_;
+  std::map<std::string, H5Handle> groups_;
+  std::map<std::string, std::unique_ptr<Series>> series_;
+  bool finished_ = false;
+};
+
+}  // namespace granflow

@@ -1,0 +1,3 @@
+#include "engine/cli.hpp"
+
+int main(int argc, char** argv) { return granflow::command_line_main(argc, argv); }

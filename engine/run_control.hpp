@@ -1,0 +1,17 @@
+#pragma once
+// What the driver of a run asks of the time-advancing system (reach the next
+// output time) and what that system answers (stop, and why).
+
+#include <string>
+
+namespace granflow {
+
+struct RunControl {
+  static constexpr const char* key = "run_control";
+  double target_time = 0.0;
+  bool stop = false;
+  bool failed = false;  // stopped on an error (e.g. inelastic collapse), not a stop criterion
+  std::string reason;
+};
+
+}  // namespace granflow

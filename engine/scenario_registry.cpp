@@ -1,0 +1,31 @@
+#include "engine/scenario_registry.hpp"
+
+#include "scenarios/haff_cooling.hpp"
+
+namespace granflow {
+
+const std::vector<ScenarioInfo>& all_scenarios() {
+  static const std::vector<ScenarioInfo> all{
+      {"haff_cooling", "homogeneous cooling of inelastic hard spheres/disks against Haff's law (EDMD)",
+       scenarios::haff_cooling_schema, scenarios::run_haff_cooling},
+  };
+  return all;
+}
+
+const ScenarioInfo* find_scenario(const std::string& name) {
+  for (const auto& s : all_scenarios())
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+const std::vector<SystemInfo>& systems_catalogue() {
+  static const std::vector<SystemInfo> all{
+      {"edmd_advance", "event-driven hard spheres/disks up to the next output time (cells, O(1) calendar, TC model)"},
+      {"observe_kinetic_energy", "mean kinetic energy per particle and temperature T = (2/d)<E_kin>"},
+      {"observe_collisions_per_particle", "2 x pair collisions / N"},
+      {"write_observables", "appends fresh observables to /observables/<name>/{step,time,value}"},
+  };
+  return all;
+}
+
+}  // namespace granflow

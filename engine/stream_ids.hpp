@@ -1,0 +1,13 @@
+#pragma once
+// Every random stream in granflow has its id here, so no two uses of the same
+// seed can ever draw correlated numbers.
+
+#include <cstdint>
+
+namespace granflow::stream {
+
+inline constexpr std::uint32_t placement = 1;        // random particle positions
+inline constexpr std::uint32_t initial_velocity = 2; // initial velocity directions / Maxwell draws
+inline constexpr std::uint32_t ensemble_seed = 3;    // seeds derived for ensemble members
+
+}  // namespace granflow::stream

@@ -1,0 +1,145 @@
+#include "scenarios/haff_cooling.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <tbb/global_control.h>
+
+#include <memory>
+#include <optional>
+
+#include "components/clock.hpp"
+#include "engine/h5md_file.hpp"
+#include "engine/observable_store.hpp"
+#include "engine/profiler.hpp"
+#include "engine/progress.hpp"
+#include "engine/run_control.hpp"
+#include "engine/schedule.hpp"
+#include "scenarios/output_times.hpp"
+#include "systems/edmd/event_driven_step.hpp"
+#include "systems/edmd/gas_setup.hpp"
+#include "systems/edmd/kinetic_theory.hpp"
+#include "systems/observables/collisions_per_particle.hpp"
+#include "systems/observables/kinetic_energy.hpp"
+#include "systems/observables/observable_writer.hpp"
+#include "systems/observables/particle_snapshot.hpp"
+
+namespace granflow::scenarios {
+
+const ConfigSchema& haff_cooling_schema() {
+  static const ConfigSchema schema = [] {
+    ConfigSchema s;
+    s.choice("scenario", "haff_cooling", {"haff_cooling"}, "scenario name");
+    edmd::declare_gas_keys(s, {});
+    s.choice("output.spacing", "log", {"log", "linear"}, "log-spaced or evenly spaced output times")
+        .real("output.interval", 1.0, 0.0, std::numeric_limits<double>::infinity(),
+              "time between outputs (linear spacing)", true)
+        .real("output.first", 0.01, 0.0, std::numeric_limits<double>::infinity(),
+              "first output time after t = 0 (log spacing)", true)
+        .integer("output.points_per_decade", 20, 1, 1000, "outputs per decade of time (log spacing)")
+        .choice("output.positions", "final", {"none", "final", "all"},
+                "particle positions and velocities: not at all, at the end, or at every output time");
+    return s;
+  }();
+  return schema;
+}
+
+namespace {
+
+template <int D>
+int run(const Config& config, const RunOptions& options) {
+  const auto count = static_cast<std::size_t>(config.integer("system.count"));
+  const std::string output_path = options.output_path.empty() ? "haff.h5" : options.output_path;
+  spdlog::info("haff_cooling: {}D, N = {}, seed = {}", D, count, config.integer("run.seed"));
+
+  World world(count);
+  edmd::build_gas<D>(world, config);
+  const auto& box = world.resource<Box<D>>();
+  const double mass = config.real("system.mass");
+  const double radius = config.real("system.radius");
+  const double eta = theory::packing_fraction<D>(static_cast<double>(count), radius, box.volume());
+  const double temperature0 = 2.0 / D * total_kinetic_energy<D>(world) / static_cast<double>(count);
+  const double omega0 = theory::collision_frequency<D>(static_cast<double>(count) / box.volume(), 2 * radius,
+                                                       temperature0, mass, eta);
+  const double tau0 = theory::haff_time<D>(config.real("collision.restitution"), omega0);
+  spdlog::info("packing fraction {:.4f}, T0 = {:.6g}, Enskog collision frequency {:.4g}, Haff tau0 = {:.4g}", eta,
+               temperature0, omega0, tau0);
+
+  edmd::EventDrivenGas<D> gas(world, edmd::collision_parameters_from(config));
+  gas.start(0.0);
+  world.emplace_resource<Clock>();
+  auto& control = world.emplace_resource<RunControl>();
+  auto& store = world.emplace_resource<ObservableStore>();
+  const std::vector<std::string> observables{"kinetic_energy", "temperature", "collisions_per_particle"};
+  for (const auto& name : observables) store.declare(name);
+
+  H5mdFile file(output_path, "haff_cooling");
+  file.write_parameters(config);
+  file.write_box(box.edges(), box.h5md_boundary());
+  file.write_attribute("/parameters/derived", "packing_fraction", eta);
+  file.write_attribute("/parameters/derived", "initial_temperature", temperature0);
+  file.write_attribute("/parameters/derived", "enskog_collision_frequency", omega0);
+  file.write_attribute("/parameters/derived", "haff_tau0", tau0);
+  file.write_attribute("/parameters/derived", "bytes_per_particle", static_cast<double>(gas.bytes_per_particle()));
+
+  edmd::AdvanceLimits limits;
+  const double max_cpp = config.real("run.max_collisions_per_particle");
+  if (std::isfinite(max_cpp))
+    limits.max_pair_collisions = static_cast<std::uint64_t>(std::ceil(max_cpp * static_cast<double>(count) / 2));
+  limits.min_kinetic_energy = config.real("run.min_energy_fraction") * gas.kinetic_energy();
+
+  Profiler profiler;
+  Schedule schedule(profiler);
+  schedule.emplace<edmd::EventDrivenStep<D>>(gas, limits);
+  schedule.emplace<KineticEnergyObserver<D>>();
+  schedule.emplace<CollisionsPerParticleObserver<D>>(gas);
+  schedule.emplace<ObservableWriter>(file, observables);
+
+  const double t_stop = config.real("run.t_stop");
+  const auto times = config.text("output.spacing") == "log"
+                         ? log_output_times(t_stop, config.real("output.first"),
+                                            static_cast<int>(config.integer("output.points_per_decade")))
+                         : linear_output_times(t_stop, config.real("output.interval"));
+  const bool all_frames = config.text("output.positions") == "all";
+  Progress progress("haff_cooling", "collisions/s", options.progress);
+  for (double t : times) {
+    control.target_time = t;
+    schedule.run(world);
+    if (all_frames) append_particle_frame<D>(file, world, world.resource<Clock>().step, gas.time());
+    file.flush();
+    progress.update(gas.time() / t_stop, static_cast<double>(gas.statistics().pair_collisions));
+    if (control.stop) break;
+  }
+  progress.finish();
+
+  const auto& stats = gas.statistics();
+  write_particle_constants(file, world);
+  if (config.text("output.positions") == "final")
+    append_particle_frame<D>(file, world, world.resource<Clock>().step, gas.time());
+  file.write_attribute("/observables", "stop_reason", control.stop ? control.reason : "reached run.t_stop");
+  file.write_attribute("/observables", "pair_collisions", static_cast<double>(stats.pair_collisions));
+  file.write_attribute("/observables", "wall_collisions", static_cast<double>(stats.wall_collisions));
+  file.write_attribute("/observables", "dissipated_energy", stats.dissipated_energy);
+  file.write_profile(profiler.entries());
+  file.finish();
+
+  spdlog::info("t = {:.6g}: {} collisions ({:.2f} per particle), T/T0 = {:.4g}, Haff predicts {:.4g}", gas.time(),
+               stats.pair_collisions, 2.0 * static_cast<double>(stats.pair_collisions) / static_cast<double>(count),
+               world.resource<ObservableStore>().slot("temperature").value.at(0) / temperature0,
+               theory::haff_temperature_ratio(gas.time(), tau0));
+  if (options.profile) fmt::print("{}", profiler.table());
+  spdlog::info("wrote {}", output_path);
+  if (control.failed) {
+    spdlog::error("{}", control.reason);
+    return 3;
+  }
+  if (control.stop) spdlog::info("stopped: {}", control.reason);
+  return 0;
+}
+
+}  // namespace
+
+int run_haff_cooling(const Config& config, const RunOptions& options) {
+  return config.integer("system.dimension") == 2 ? run<2>(config, options) : run<3>(config, options);
+}
+
+}  // namespace granflow::scenarios

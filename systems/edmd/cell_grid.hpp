@@ -1,0 +1,115 @@
+#pragma once
+// Cell list for event-driven dynamics: cells at least one contact distance
+// wide, so a particle can only touch particles in its own and adjacent cells
+// until it crosses into another cell (a scheduled event). Membership is an
+// intrusive doubly linked list per cell, so a crossing is O(1).
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+#include "components/box.hpp"
+
+namespace granflow::edmd {
+
+template <int D>
+class CellGrid {
+ public:
+  static constexpr int neighbour_count = D == 2 ? 9 : 27;
+
+  CellGrid() = default;
+  CellGrid(const Box<D>& box, double min_width, std::size_t particle_count) { reset(box, min_width, particle_count); }
+
+  void reset(const Box<D>& box, double min_width, std::size_t particle_count) {
+    std::size_t total = 1;
+    for (int a = 0; a < D; ++a) {
+      // Cap the count so that huge boxes of few particles do not allocate
+      // more cells than particles.
+      const auto fit = static_cast<std::int64_t>(std::floor(box.length[a] / min_width));
+      count_[a] = static_cast<std::int32_t>(std::clamp<std::int64_t>(fit, 1, 1 << 20));
+      width_[a] = box.length[a] / count_[a];
+      total *= static_cast<std::size_t>(count_[a]);
+    }
+    while (total > std::max<std::size_t>(8 * particle_count, 64)) {
+      total = 1;
+      for (int a = 0; a < D; ++a) {
+        count_[a] = std::max(1, count_[a] / 2);
+        width_[a] = box.length[a] / count_[a];
+        total *= static_cast<std::size_t>(count_[a]);
+      }
+    }
+    stride_[0] = 1;
+    for (int a = 1; a < D; ++a) stride_[a] = stride_[a - 1] * count_[a - 1];
+    head_.assign(total, -1);
+    next_.assign(particle_count, -1);
+    prev_.assign(particle_count, -1);
+    cell_.assign(particle_count, 0);
+  }
+
+  std::int32_t count(int axis) const { return count_[axis]; }
+  double width(int axis) const { return width_[axis]; }
+  std::size_t cell_total() const { return head_.size(); }
+  std::uint32_t cell_of(std::uint32_t i) const { return cell_[i]; }
+  std::int32_t head(std::uint32_t cell) const { return head_[cell]; }
+  std::int32_t next(std::uint32_t i) const { return next_[i]; }
+
+  std::array<std::int32_t, D> coordinates(std::uint32_t cell) const {
+    std::array<std::int32_t, D> c{};
+    for (int a = D - 1; a >= 0; --a) {
+      c[a] = static_cast<std::int32_t>(cell / static_cast<std::uint32_t>(stride_[a]));
+      cell -= static_cast<std::uint32_t>(c[a] * stride_[a]);
+    }
+    return c;
+  }
+  std::uint32_t linear(const std::array<std::int32_t, D>& c) const {
+    std::int32_t cell = 0;
+    for (int a = 0; a < D; ++a) cell += c[a] * stride_[a];
+    return static_cast<std::uint32_t>(cell);
+  }
+  std::int32_t stride(int axis) const { return stride_[axis]; }
+
+  // Cell containing a position inside the box.
+  std::uint32_t locate(const auto& x) const {
+    std::array<std::int32_t, D> c{};
+    for (int a = 0; a < D; ++a)
+      c[a] = std::clamp(static_cast<std::int32_t>(std::floor(x[a] / width_[a])), 0, count_[a] - 1);
+    return linear(c);
+  }
+
+  void insert(std::uint32_t i, std::uint32_t cell) {
+    cell_[i] = cell;
+    const std::int32_t h = head_[cell];
+    next_[i] = h;
+    prev_[i] = -1;
+    if (h >= 0) prev_[static_cast<std::size_t>(h)] = static_cast<std::int32_t>(i);
+    head_[cell] = static_cast<std::int32_t>(i);
+  }
+
+  void erase(std::uint32_t i) {
+    const std::int32_t n = next_[i], p = prev_[i];
+    if (p >= 0)
+      next_[static_cast<std::size_t>(p)] = n;
+    else
+      head_[cell_[i]] = n;
+    if (n >= 0) prev_[static_cast<std::size_t>(n)] = p;
+  }
+
+  std::size_t bytes_per_particle() const {
+    const std::size_t count = std::max<std::size_t>(cell_.size(), 1);
+    return 3 * sizeof(std::int32_t) + head_.size() * sizeof(std::int32_t) / count;
+  }
+
+ private:
+  std::array<std::int32_t, D> count_{};
+  std::array<std::int32_t, D> stride_{};
+  std::array<double, D> width_{};
+  std::vector<std::int32_t> head_;
+  std::vector<std::int32_t> next_;
+  std::vector<std::int32_t> prev_;
+  std::vector<std::uint32_t> cell_;
+};
+
+}  // namespace granflow::edmd

@@ -1,0 +1,128 @@
+#pragma once
+// Builds a hard-sphere (hard-disk) gas from a configuration: the box, the
+// components, random non-overlapping positions and the initial velocities,
+// including an elastically equilibrated state. Scenarios share the keys
+// declared here so every EDMD scenario is configured the same way.
+
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <string>
+
+#include <spdlog/spdlog.h>
+
+#include "components/box.hpp"
+#include "components/mass.hpp"
+#include "components/position.hpp"
+#include "components/radius.hpp"
+#include "components/species.hpp"
+#include "components/velocity.hpp"
+#include "engine/config.hpp"
+#include "engine/world.hpp"
+#include "systems/edmd/event_driven_gas.hpp"
+#include "systems/initial/initial_velocities.hpp"
+#include "systems/initial/random_placement.hpp"
+
+namespace granflow::edmd {
+
+struct GasDefaults {
+  std::int64_t dimension = 3;
+  std::int64_t count = 1000;
+  double radius = 0.025;
+  std::string boundary = "periodic";
+  std::string velocity = "equilibrated";
+  double restitution = 0.8;
+  double t_stop = 100.0;
+};
+
+inline void declare_gas_keys(ConfigSchema& schema, const GasDefaults& d) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  schema.integer("system.dimension", d.dimension, 2, 3, "2 for hard disks, 3 for hard spheres")
+      .integer("system.count", d.count, 1, std::numeric_limits<std::int32_t>::max(), "number of particles N")
+      .real("system.radius", d.radius, 0.0, inf, "particle radius r", true)
+      .real("system.mass", 1.0, 0.0, inf, "particle mass m", true)
+      .real("system.box_length", 1.0, 0.0, inf, "edge L of the square/cubic box", true)
+      .choice("system.boundary", d.boundary, {"periodic", "reflecting"}, "boundary on every axis")
+      .choice("initial.velocity", d.velocity, {"equilibrated", "fixed_speed", "maxwell_boltzmann"},
+              "fixed_speed: |v| = initial.speed in random directions (seed 000 eq. 3.3); maxwell_boltzmann: at "
+              "initial.temperature; equilibrated: fixed_speed run elastically for "
+              "initial.equilibration_collisions collisions per particle")
+      .real("initial.speed", std::numbers::sqrt2, 0.0, inf, "initial speed v0 (fixed_speed, equilibrated)")
+      .real("initial.temperature", 2.0 / 3.0, 0.0, inf, "initial temperature (maxwell_boltzmann)")
+      .real("initial.equilibration_collisions", 20.0, 0.0, 1e6,
+            "collisions per particle of the elastic run that prepares an equilibrated state")
+      .boolean("initial.remove_mean_velocity", true,
+               "remove the centre-of-mass velocity at start (seed 000 sec. 3.8), keeping the kinetic energy")
+      .real("collision.restitution", d.restitution, 0.0, 1.0, "normal restitution coefficient xi")
+      .real("collision.wall_restitution", 1.0, 0.0, 1.0, "restitution of reflecting walls (seed 002 eqs. 3-4)")
+      .real("collision.contact_time", 0.0, 0.0, inf,
+            "TC model: collisions within this time of a particle's previous collision are elastic")
+      .real("collision.collapse_rate_factor", 1000.0, 10.0, inf,
+            "collision-rate increase (at equal thermal speed) that is reported as inelastic collapse")
+      .real("run.t_stop", d.t_stop, 0.0, inf, "stop time", true)
+      .integer("run.seed", 1, 0, std::numeric_limits<std::int64_t>::max(), "seed of every random stream")
+      .real("run.max_collisions_per_particle", inf, 0.0, inf, "stop after this many collisions per particle")
+      .real("run.min_energy_fraction", 0.0, 0.0, 1.0, "stop when the kinetic energy falls below this fraction");
+}
+
+template <int D>
+Box<D> box_from(const Config& config) {
+  Box<D> box;
+  box.length.fill(config.real("system.box_length"));
+  box.periodic.fill(config.text("system.boundary") == "periodic");
+  return box;
+}
+
+inline CollisionParameters collision_parameters_from(const Config& config) {
+  CollisionParameters p;
+  p.restitution = config.real("collision.restitution");
+  p.wall_restitution = config.real("collision.wall_restitution");
+  p.contact_time = config.real("collision.contact_time");
+  p.collapse_rate_factor = config.real("collision.collapse_rate_factor");
+  return p;
+}
+
+// Fills an empty world (of system.count entities) with the configured gas at t = 0.
+template <int D>
+void build_gas(World& world, const Config& config) {
+  const auto count = static_cast<std::size_t>(config.integer("system.count"));
+  const auto seed = static_cast<std::uint64_t>(config.integer("run.seed"));
+  world.resize(count);
+  const Box<D>& box = world.emplace_resource<Box<D>>(box_from<D>(config));
+  auto& mass = world.add_component<Mass>();
+  auto& radius = world.add_component<Radius>();
+  world.add_component<Species>();
+  auto& position = world.add_component<Position<D>>();
+  auto& velocity = world.add_component<Velocity<D>>();
+  std::fill(mass.values.begin(), mass.values.end(), config.real("system.mass"));
+  std::fill(radius.values.begin(), radius.values.end(), config.real("system.radius"));
+
+  PlacementRegion<D> everywhere;
+  everywhere.upper = box.length;
+  position.values = place_randomly<D>(box, everywhere, radius.values, seed);
+
+  const std::string kind = config.text("initial.velocity");
+  if (kind == "maxwell_boltzmann")
+    velocity.values = maxwell_boltzmann_velocities<D>(mass.values, config.real("initial.temperature"), seed);
+  else
+    velocity.values = fixed_speed_velocities<D>(count, config.real("initial.speed"), seed);
+  if (config.boolean("initial.remove_mean_velocity") && count > 1)
+    remove_mean_velocity<D>(velocity.values, mass.values);
+
+  if (kind == "equilibrated") {
+    const double collisions = config.real("initial.equilibration_collisions");
+    CollisionParameters elastic;
+    elastic.wall_restitution = 1.0;
+    EventDrivenGas<D> gas(world, elastic);
+    gas.start(0.0);
+    AdvanceLimits limits;
+    limits.max_pair_collisions = static_cast<std::uint64_t>(std::ceil(collisions * static_cast<double>(count) / 2));
+    const StopReason reason = gas.advance(std::numeric_limits<double>::infinity(), limits);
+    gas.synchronize(gas.time());
+    spdlog::info("equilibrated elastically: {:.1f} collisions per particle in t = {:.4g}{}",
+                 2.0 * static_cast<double>(gas.statistics().pair_collisions) / static_cast<double>(count),
+                 gas.time(), reason == StopReason::no_events ? " (no more events: the gas is at rest)" : "");
+  }
+}
+
+}  // namespace granflow::edmd

@@ -1,0 +1,51 @@
+#pragma once
+// Kinetic theory of hard spheres (D = 3) and disks (D = 2) used to check and
+// label simulations; see REFERENCE.md. k_B = 1, sigma = 2r.
+
+#include <cmath>
+#include <numbers>
+
+namespace granflow::theory {
+
+// Packing fraction of N spheres/disks of radius r in volume V.
+template <int D>
+double packing_fraction(double count, double radius, double volume) {
+  const double one = D == 3 ? 4.0 / 3.0 * std::numbers::pi * radius * radius * radius
+                            : std::numbers::pi * radius * radius;
+  return count * one / volume;
+}
+
+// Pair correlation at contact: Carnahan-Starling (3D), Henderson (2D).
+template <int D>
+double contact_value(double eta) {
+  if constexpr (D == 3)
+    return (2.0 - eta) / (2.0 * std::pow(1.0 - eta, 3));
+  else
+    return (1.0 - 7.0 * eta / 16.0) / ((1.0 - eta) * (1.0 - eta));
+}
+
+// Enskog collision frequency per particle at temperature T.
+template <int D>
+double collision_frequency(double number_density, double diameter, double temperature, double mass, double eta) {
+  const double g2 = contact_value<D>(eta);
+  const double thermal = std::sqrt(temperature / mass);
+  if constexpr (D == 3)
+    return 4.0 * std::sqrt(std::numbers::pi) * g2 * number_density * diameter * diameter * thermal;
+  else
+    return 2.0 * std::sqrt(std::numbers::pi) * g2 * number_density * diameter * thermal;
+}
+
+// Haff's characteristic time: 1/tau0 = (1 - xi^2) omega(T0) / (2 d) (seed 000 eq. 2.45 in 3D).
+template <int D>
+double haff_time(double restitution, double collision_frequency_at_t0) {
+  const double rate = (1.0 - restitution * restitution) * collision_frequency_at_t0 / (2.0 * D);
+  return rate > 0.0 ? 1.0 / rate : INFINITY;
+}
+
+// Haff's law T(t)/T0 = 1 / (1 + t/tau0)^2 (seed 000 eq. 2.40).
+inline double haff_temperature_ratio(double t, double tau0) {
+  const double s = 1.0 + t / tau0;
+  return 1.0 / (s * s);
+}
+
+}  // namespace granflow::theory
