@@ -52,7 +52,13 @@ void keys_command(const std::string& name) {
 }
 
 void info_command(const std::string& path) {
-  H5mdReader reader(path);
+  std::optional<H5mdReader> opened;
+  try {
+    opened.emplace(path);
+  } catch (const H5Error& error) {
+    throw std::invalid_argument(error.what());
+  }
+  const H5mdReader& reader = *opened;
   fmt::print("{}\n", path);
   if (reader.exists("/h5md/creator"))
     fmt::print("  created by {} {}\n", reader.string_attribute("/h5md/creator", "name"),

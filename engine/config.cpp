@@ -300,6 +300,7 @@ std::string Config::to_toml() const {
 }
 
 std::string scenario_name_of(const std::string& path) {
+  if (!std::ifstream(path)) throw ConfigError(fmt::format("cannot open configuration file '{}'", path));
   toml::table table;
   try {
     table = toml::parse_file(path);

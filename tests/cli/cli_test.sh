@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# Command-line behaviour: bad input exits with status 2 and a message naming
+# the problem; a good run writes a complete H5MD file that is identical for
+# 1 and 2 threads; list and info work.
+set -u
+granflow="$1"
+scenario="$2"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+
+expect_error() {  # expect_error "what the message must contain" args...
+  local needle="$1"; shift
+  local output status
+  output=$("$granflow" "$@" 2>&1); status=$?
+  if [[ $status -ne 2 ]]; then
+    echo "FAIL: '$*' exited with $status, expected 2"; echo "$output"; failures=$((failures + 1))
+  elif [[ "$output" != *"$needle"* ]]; then
+    echo "FAIL: '$*' did not say '$needle':"; echo "$output"; failures=$((failures + 1))
+  else
+    echo "ok: $* -> $needle"
+  fi
+}
+
+small=(--set system.count=200 --set run.t_stop=0.5 --set initial.equilibration_collisions=2 -q)
+expect_error "unknown configuration key 'system.cuont'" run "$scenario" --set system.cuont=3 -o "$work/x.h5"
+expect_error "'system.count' must be an integer" run "$scenario" --set system.count=abc -o "$work/x.h5"
+expect_error "'collision.restitution' = 1.5 is out of range: allowed is a number in [0, 1]" \
+  run "$scenario" --set collision.restitution=1.5 -o "$work/x.h5"
+expect_error "'system.boundary' = 'open' is not allowed: use one of: periodic, reflecting" \
+  run "$scenario" --set system.boundary=open -o "$work/x.h5"
+expect_error "'system.radius' = -0.1 is out of range" run "$scenario" --set system.radius=-0.1 -o "$work/x.h5"
+expect_error "'run.t_stop' = 0 is out of range" run "$scenario" --set run.t_stop=0 -o "$work/x.h5"
+expect_error "cannot place 1000 particles at packing fraction" run "$scenario" --set system.radius=0.1 -o "$work/x.h5"
+expect_error "must exceed two particle diameters" \
+  run "$scenario" --set system.count=1 --set system.radius=0.3 -o "$work/x.h5"
+expect_error "cannot open configuration file" run "$work/missing.toml"
+printf 'scenario = "no_such_thing"\n' > "$work/unknown.toml"
+expect_error "unknown scenario 'no_such_thing'" run "$work/unknown.toml"
+printf 'scenario = "haff_cooling"\n[system\ncount = 3\n' > "$work/broken.toml"
+expect_error "cannot parse" run "$work/broken.toml"
+printf 'scenario = "haff_cooling"\n[system]\ncount = 1.5\n' > "$work/float.toml"
+expect_error "'system.count' must be an integer, got 1.5" run "$work/float.toml"
+expect_error "--set expects section.key=value" run "$scenario" --set oops -o "$work/x.h5"
+expect_error "" run "$scenario" --threads 0
+if [[ -e "$work/x.h5" ]]; then echo "FAIL: a failed run left $work/x.h5"; failures=$((failures + 1)); fi
+
+for threads in 1 2; do
+  if ! "$granflow" run "$scenario" "${small[@]}" --threads $threads -o "$work/t$threads.h5"; then
+    echo "FAIL: small run with $threads threads"; failures=$((failures + 1))
+  fi
+done
+if [[ -e "$work/t1.h5.partial" ]]; then echo "FAIL: partial file left behind"; failures=$((failures + 1)); fi
+info=$("$granflow" info "$work/t1.h5")
+for needle in "scenario: haff_cooling" "seed: 1" "/observables/temperature/value" "/profile/system" \
+              "/particles/all/position/value" "/particles/all/box/edges"; do
+  [[ "$info" == *"$needle"* ]] || { echo "FAIL: info lacks '$needle'"; failures=$((failures + 1)); }
+done
+if [[ -x /usr/bin/python3 ]] && /usr/bin/python3 -c "import h5py" 2>/dev/null; then
+  /usr/bin/python3 - "$work/t1.h5" "$work/t2.h5" <<'PY' || failures=$((failures + 1))
+import sys, h5py, numpy as np
+a, b = (h5py.File(p, "r") for p in sys.argv[1:])
+for name in ("kinetic_energy", "temperature", "collisions_per_particle"):
+    x, y = a[f"/observables/{name}/value"][()], b[f"/observables/{name}/value"][()]
+    if not np.array_equal(x, y):
+        sys.exit(f"FAIL: {name} differs between 1 and 2 threads")
+if not np.array_equal(a["/particles/all/position/value"][()], b["/particles/all/position/value"][()]):
+    sys.exit("FAIL: positions differ between 1 and 2 threads")
+assert list(a["/h5md"].attrs["version"]) == [1, 1]
+print("ok: 1 and 2 threads give identical results")
+PY
+else
+  echo "FAIL: /usr/bin/python3 with h5py is needed for the output checks"; failures=$((failures + 1))
+fi
+"$granflow" list | grep -q haff_cooling || { echo "FAIL: list"; failures=$((failures + 1)); }
+expect_error "is not an HDF5 file" info "$scenario"
+
+echo "$failures failure(s)"
+[[ $failures -eq 0 ]]

@@ -1,0 +1,104 @@
+// Configuration: every bad key, type or value is an error that names the key
+// and says what is allowed.
+
+#include <gtest/gtest.h>
+
+#include "engine/config.hpp"
+
+namespace granflow {
+namespace {
+
+ConfigSchema schema() {
+  ConfigSchema s;
+  s.integer("system.count", 10, 1, 1000, "N")
+      .real("system.radius", 0.1, 0.0, 1.0, "r", true)
+      .choice("system.boundary", "periodic", {"periodic", "reflecting"}, "boundary")
+      .boolean("initial.remove_mean_velocity", true, "flag");
+  return s;
+}
+
+std::string error_of(const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Config, DefaultsAndFileValues) {
+  const auto s = schema();
+  const Config c = Config::from_toml_text(s, "[system]\ncount = 20\nradius = 0.5\n", "test");
+  EXPECT_EQ(c.integer("system.count"), 20);
+  EXPECT_EQ(c.real("system.radius"), 0.5);
+  EXPECT_EQ(c.text("system.boundary"), "periodic");
+  EXPECT_TRUE(c.boolean("initial.remove_mean_velocity"));
+}
+
+TEST(Config, IntegerIsAcceptedForReal) {
+  const auto s = schema();
+  EXPECT_EQ(Config::from_toml_text(s, "[system]\nradius = 1\n", "test").real("system.radius"), 1.0);
+}
+
+TEST(Config, UnknownKeyIsNamed) {
+  const auto s = schema();
+  const auto message = error_of([&] { Config::from_toml_text(s, "[system]\ncuont = 20\n", "test"); });
+  EXPECT_NE(message.find("unknown configuration key 'system.cuont'"), std::string::npos) << message;
+  EXPECT_NE(message.find("system.count"), std::string::npos) << message;
+}
+
+TEST(Config, WrongTypeIsNamed) {
+  const auto s = schema();
+  const auto message = error_of([&] { Config::from_toml_text(s, "[system]\ncount = \"many\"\n", "test"); });
+  EXPECT_NE(message.find("'system.count' must be an integer"), std::string::npos) << message;
+}
+
+TEST(Config, OutOfRangeShowsAllowedRange) {
+  const auto s = schema();
+  auto message = error_of([&] { Config::from_toml_text(s, "[system]\nradius = 0.0\n", "test"); });
+  EXPECT_NE(message.find("'system.radius' = 0 is out of range: allowed is a number in (0, 1]"), std::string::npos)
+      << message;
+  message = error_of([&] { Config::from_toml_text(s, "[system]\ncount = 0\n", "test"); });
+  EXPECT_NE(message.find("an integer in [1, 1000]"), std::string::npos) << message;
+}
+
+TEST(Config, BadChoiceListsChoices) {
+  const auto s = schema();
+  const auto message = error_of([&] { Config::from_toml_text(s, "[system]\nboundary = \"open\"\n", "test"); });
+  EXPECT_NE(message.find("one of: periodic, reflecting"), std::string::npos) << message;
+}
+
+TEST(Config, SyntaxErrorIsReported) {
+  const auto s = schema();
+  EXPECT_NE(error_of([&] { Config::from_toml_text(s, "[system\ncount = 1\n", "test"); }).find("cannot parse test"),
+            std::string::npos);
+}
+
+TEST(Config, OverridesAreTypedAndChecked) {
+  const auto s = schema();
+  Config c(s);
+  c.apply_override("system.count=42");
+  c.apply_override("system.boundary=reflecting");
+  c.apply_override("initial.remove_mean_velocity=false");
+  EXPECT_EQ(c.integer("system.count"), 42);
+  EXPECT_EQ(c.text("system.boundary"), "reflecting");
+  EXPECT_FALSE(c.boolean("initial.remove_mean_velocity"));
+  EXPECT_NE(error_of([&] { c.apply_override("system.count=4.5"); }).find("'system.count' must be an integer"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { c.apply_override("system.radius=abc"); }).find("'system.radius' must be a number"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { c.apply_override("nonsense"); }).find("section.key=value"), std::string::npos);
+  EXPECT_NE(error_of([&] { c.apply_override("system.size=3"); }).find("unknown configuration key 'system.size'"),
+            std::string::npos);
+}
+
+TEST(Config, ResolvedTomlRoundTrips) {
+  const auto s = schema();
+  Config c(s);
+  c.apply_override("system.radius=0.25");
+  const Config again = Config::from_toml_text(s, c.to_toml(), "resolved");
+  EXPECT_EQ(again.values(), c.values());
+}
+
+}  // namespace
+}  // namespace granflow
