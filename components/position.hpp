@@ -1,5 +1,5 @@
 #pragma once
-// Per-particle positions at the particle's own LocalTime (delayed states in EDMD), wrapped into the box.
+// Per-particle positions, wrapped into the box; up to date after an engine synchronises.
 #include "components/vector.hpp"
 #include "engine/world.hpp"
 
