@@ -49,6 +49,11 @@ class CellGrid {
     cell_.assign(particle_count, 0);
   }
 
+  // Empties every cell, keeping the geometry.
+  void clear() {
+    std::fill(head_.begin(), head_.end(), -1);
+  }
+
   std::int32_t count(int axis) const { return count_[axis]; }
   double width(int axis) const { return width_[axis]; }
   std::size_t cell_total() const { return head_.size(); }

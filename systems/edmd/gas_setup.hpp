@@ -12,6 +12,7 @@
 #include <spdlog/spdlog.h>
 
 #include "components/box.hpp"
+#include "components/last_collision_time.hpp"
 #include "components/mass.hpp"
 #include "components/position.hpp"
 #include "components/radius.hpp"
@@ -119,6 +120,9 @@ void build_gas(World& world, const Config& config) {
     limits.max_pair_collisions = static_cast<std::uint64_t>(std::ceil(collisions * static_cast<double>(count) / 2));
     const StopReason reason = gas.advance(std::numeric_limits<double>::infinity(), limits);
     gas.synchronize(gas.time());
+    // The run proper starts its clock at zero: forget the preparation's collision times.
+    auto& last = world.add_component<LastCollisionTime>();
+    std::fill(last.values.begin(), last.values.end(), -std::numeric_limits<double>::infinity());
     spdlog::info("equilibrated elastically: {:.1f} collisions per particle in t = {:.4g}{}",
                  2.0 * static_cast<double>(gas.statistics().pair_collisions) / static_cast<double>(count),
                  gas.time(), reason == StopReason::no_events ? " (no more events: the gas is at rest)" : "");
