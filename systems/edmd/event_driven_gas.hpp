@@ -180,7 +180,7 @@ class EventDrivenGas {
 
   // Memory the engine and the components it uses hold per particle.
   std::size_t bytes_per_particle() const {
-    return world_.component_bytes_per_entity() + sizeof(HotState) + sizeof(EventKind) + 2 * sizeof(std::uint32_t) +
+    return world_.component_bytes_per_entity() + sizeof(HotState) + sizeof(EventKind) + 2 * sizeof(std::uint32_t) + sizeof(double) +
            grid_.bytes_per_particle() + calendar_.bytes_per_particle();
   }
 
@@ -208,6 +208,7 @@ class EventDrivenGas {
     event_kind_.assign(count, EventKind::none);
     partner_.assign(count, 0);
     partner_count_.assign(count, 0);
+    collision_time_.assign(count, never);
     now_ = now;
     std::vector<double> first_events(count);
     for (std::uint32_t i = 0; i < count; ++i) first_events[i] = predict(i);
@@ -266,7 +267,11 @@ class EventDrivenGas {
 
   // Finds particle i's earliest event; i must be at time now_.
   // Returns its time; records its kind and partner.
-  double predict(std::uint32_t i) {
+  // After a cell crossing through `entered_face` only the cells that have
+  // just become adjacent are scanned (9 of 27 in 3D): the particle's
+  // trajectory is unchanged, so its stored earliest collision with the old
+  // neighbours still holds, provided that partner has not changed course.
+  double predict(std::uint32_t i, int entered_face = -1) {
     const Vec<D> xi = hot_[i].x;
     const Vec<D> vi = hot_[i].v;
     const double ri = hot_[i].r;
@@ -274,6 +279,17 @@ class EventDrivenGas {
     double best = never;
     EventKind kind = EventKind::none;
     std::uint32_t partner = 0;
+    double best_collision = never;
+    if (entered_face >= 0) {
+      if (collision_time_[i] == never || count_[partner_[i]] == partner_count_[i]) {
+        best_collision = collision_time_[i];
+        partner = partner_[i];
+      } else {
+        entered_face = -1;  // the stored collision is stale: scan everything
+      }
+    }
+    const int fixed_axis = entered_face >= 0 ? entered_face / 2 : -1;
+    const std::int32_t fixed_offset = entered_face >= 0 && entered_face % 2 == 1 ? 1 : -1;
 
     for (int a = 0; a < D; ++a) {
       const double v = vi[a];
@@ -321,12 +337,13 @@ class EventDrivenGas {
           shift[a] = below ? -box_.length[a] : box_.length[a];
         }
       }
+      const bool wanted = fixed_axis < 0 || offset[fixed_axis] == fixed_offset;
       // next offset in odometer order
       for (int a = 0; a < D; ++a) {
         if (++offset[a] <= 1) break;
         offset[a] = -1;
       }
-      if (!inside) continue;
+      if (!inside || !wanted) continue;
       for (std::int32_t k = grid_.head(grid_.linear(c)); k >= 0; k = grid_.next(static_cast<std::uint32_t>(k)))
         if (static_cast<std::uint32_t>(k) != i) candidates_.push_back({static_cast<std::uint32_t>(k), n});
     }
@@ -334,19 +351,27 @@ class EventDrivenGas {
       const HotState& other = hot_[j];
       const Vec<D> dx = other.x + other.v * (now_ - other.t) + shifts[n] - xi;
       const double dt = contact_time<D>(dx, other.v - vi, ri + other.r);
-      if (now_ + dt < best) {
-        best = now_ + dt;
-        kind = EventKind::collision;
+      if (now_ + dt < best_collision) {
+        best_collision = now_ + dt;
         partner = j;
       }
     }
+    if (best_collision < never) {
+      collision_time_[i] = best_collision;
+      partner_[i] = partner;
+      partner_count_[i] = count_[partner];
+    } else {
+      collision_time_[i] = never;
+    }
+    if (best_collision <= best) {
+      best = best_collision;
+      kind = best < never ? EventKind::collision : EventKind::none;
+    }
     event_kind_[i] = kind;
-    partner_[i] = partner;
-    partner_count_[i] = kind == EventKind::collision ? count_[partner] : 0;
     return best;
   }
 
-  void repredict(std::uint32_t i) { calendar_.schedule(i, predict(i)); }
+  void repredict(std::uint32_t i, int entered_face = -1) { calendar_.schedule(i, predict(i, entered_face)); }
 
   void process(std::uint32_t i) {
     const EventKind kind = event_kind_[i];
@@ -377,8 +402,9 @@ class EventDrivenGas {
       repredict(i);
     } else {
       advance_particle(i);
-      cross_cell(i, static_cast<int>(kind) - static_cast<int>(EventKind::crossing));
-      repredict(i);
+      const int face = static_cast<int>(kind) - static_cast<int>(EventKind::crossing);
+      cross_cell(i, face);
+      repredict(i, face);
     }
   }
 
@@ -447,6 +473,7 @@ class EventDrivenGas {
   std::vector<Candidate> candidates_;
   std::vector<std::uint32_t> partner_;
   std::vector<std::uint32_t> partner_count_;
+  std::vector<double> collision_time_;  // earliest predicted collision, possibly later than the event
 
   double now_ = 0.0;
   double kinetic_energy_ = 0.0;
