@@ -2,7 +2,8 @@
 // Cell list for event-driven dynamics: cells at least one contact distance
 // wide, so a particle can only touch particles in its own and adjacent cells
 // until it crosses into another cell (a scheduled event). Membership is an
-// intrusive doubly linked list per cell, so a crossing is O(1).
+// intrusive singly linked list per cell; cells hold about one particle, so
+// unlinking by a short walk is cheaper than storing back links.
 
 #include <algorithm>
 #include <array>
@@ -19,6 +20,8 @@ template <int D>
 class CellGrid {
  public:
   static constexpr int neighbour_count = D == 2 ? 9 : 27;
+  // Memory bound: at most this many cells (4 bytes each) per particle.
+  static constexpr std::size_t max_cells_per_particle = 3;
 
   CellGrid() = default;
   CellGrid(const Box<D>& box, double min_width, std::size_t particle_count) { reset(box, min_width, particle_count); }
@@ -33,10 +36,15 @@ class CellGrid {
       width_[a] = box.length[a] / count_[a];
       total *= static_cast<std::size_t>(count_[a]);
     }
-    while (total > std::max<std::size_t>(8 * particle_count, 64)) {
+    // Dilute gases would otherwise get many empty cells per particle; wider
+    // cells cost a few more pair tests but save memory and cell crossings.
+    const auto limit = static_cast<double>(std::max<std::size_t>(max_cells_per_particle * particle_count, 64));
+    if (static_cast<double>(total) > limit) {
+      const double shrink = std::cbrt(static_cast<double>(total) / limit);
+      const double factor = D == 3 ? shrink : std::sqrt(shrink * shrink * shrink);
       total = 1;
       for (int a = 0; a < D; ++a) {
-        count_[a] = std::max(1, count_[a] / 2);
+        count_[a] = std::max(1, static_cast<std::int32_t>(std::floor(count_[a] / factor)));
         width_[a] = box.length[a] / count_[a];
         total *= static_cast<std::size_t>(count_[a]);
       }
@@ -45,7 +53,6 @@ class CellGrid {
     for (int a = 1; a < D; ++a) stride_[a] = stride_[a - 1] * count_[a - 1];
     head_.assign(total, -1);
     next_.assign(particle_count, -1);
-    prev_.assign(particle_count, -1);
     cell_.assign(particle_count, 0);
   }
 
@@ -86,25 +93,19 @@ class CellGrid {
 
   void insert(std::uint32_t i, std::uint32_t cell) {
     cell_[i] = cell;
-    const std::int32_t h = head_[cell];
-    next_[i] = h;
-    prev_[i] = -1;
-    if (h >= 0) prev_[static_cast<std::size_t>(h)] = static_cast<std::int32_t>(i);
+    next_[i] = head_[cell];
     head_[cell] = static_cast<std::int32_t>(i);
   }
 
   void erase(std::uint32_t i) {
-    const std::int32_t n = next_[i], p = prev_[i];
-    if (p >= 0)
-      next_[static_cast<std::size_t>(p)] = n;
-    else
-      head_[cell_[i]] = n;
-    if (n >= 0) prev_[static_cast<std::size_t>(n)] = p;
+    std::int32_t* link = &head_[cell_[i]];
+    while (*link != static_cast<std::int32_t>(i)) link = &next_[static_cast<std::size_t>(*link)];
+    *link = next_[i];
   }
 
   std::size_t bytes_per_particle() const {
     const std::size_t count = std::max<std::size_t>(cell_.size(), 1);
-    return 3 * sizeof(std::int32_t) + head_.size() * sizeof(std::int32_t) / count;
+    return 2 * sizeof(std::int32_t) + head_.size() * sizeof(std::int32_t) / count;
   }
 
  private:
@@ -113,7 +114,6 @@ class CellGrid {
   std::array<double, D> width_{};
   std::vector<std::int32_t> head_;
   std::vector<std::int32_t> next_;
-  std::vector<std::int32_t> prev_;
   std::vector<std::uint32_t> cell_;
 };
 

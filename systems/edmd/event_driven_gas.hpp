@@ -99,7 +99,8 @@ class EventDrivenGas {
   EventDrivenGas(World& world, const CollisionParameters& parameters, bool sort_in_space = true)
       : world_(world), parameters_(parameters), sort_in_space_(sort_in_space) {
     world.add_component<CollisionCount>();
-    if (!world.has_component<LastCollisionTime>()) {
+    // Collision times are only needed by the TC model.
+    if (parameters.contact_time > 0.0 && !world.has_component<LastCollisionTime>()) {
       auto& last = world.add_component<LastCollisionTime>();
       std::fill(last.values.begin(), last.values.end(), -std::numeric_limits<double>::infinity());
     }
@@ -234,7 +235,8 @@ class EventDrivenGas {
   void bind() {
     mass_ = world_.template component<Mass>().data();
     count_ = world_.template component<CollisionCount>().data();
-    last_collision_ = world_.template component<LastCollisionTime>().data();
+    last_collision_ =
+        parameters_.contact_time > 0.0 ? world_.template component<LastCollisionTime>().data() : nullptr;
     id_ = world_.template component<ParticleId>().data();
     box_ = world_.template resource<Box<D>>();
     const auto& position = world_.template component<Position<D>>();
@@ -390,14 +392,14 @@ class EventDrivenGas {
     } else if (kind < EventKind::crossing) {
       advance_particle(i);
       const int axis = static_cast<int>(kind) - static_cast<int>(EventKind::wall);
-      const bool elastic = now_ - last_collision_[i] < parameters_.contact_time;
+      const bool elastic = last_collision_ && now_ - last_collision_[i] < parameters_.contact_time;
       const double restitution = elastic ? 1.0 : parameters_.wall_restitution;
       const double lost = reflect_from_wall<D>(hot_[i].v, mass_[i], axis, restitution);
       statistics_.wall_dissipated_energy += lost;
       kinetic_energy_ -= lost;
       ++statistics_.wall_collisions;
       ++count_[i];
-      last_collision_[i] = now_;
+      if (last_collision_) last_collision_[i] = now_;
       if (observer_) observer_({now_, id_[i], EventRecord::wall_partner});
       repredict(i);
     } else {
@@ -413,7 +415,8 @@ class EventDrivenGas {
     for (int a = 0; a < D; ++a)
       if (box_.periodic[a]) dx[a] -= box_.length[a] * std::round(dx[a] / box_.length[a]);
     const bool elastic =
-        now_ - last_collision_[i] < parameters_.contact_time || now_ - last_collision_[j] < parameters_.contact_time;
+        last_collision_ && (now_ - last_collision_[i] < parameters_.contact_time ||
+                            now_ - last_collision_[j] < parameters_.contact_time);
     const auto result = collide_pair<D>(hot_[i].v, hot_[j].v, mass_[i], mass_[j], dx,
                                         elastic ? 1.0 : parameters_.restitution);
     statistics_.dissipated_energy += result.dissipated_energy;
@@ -422,8 +425,7 @@ class EventDrivenGas {
     ++statistics_.pair_collisions;
     ++count_[i];
     ++count_[j];
-    last_collision_[i] = now_;
-    last_collision_[j] = now_;
+    if (last_collision_) last_collision_[i] = last_collision_[j] = now_;
     if (observer_) observer_({now_, id_[i], id_[j]});
   }
 

