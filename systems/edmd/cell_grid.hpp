@@ -52,8 +52,7 @@ class CellGrid {
     stride_[0] = 1;
     for (int a = 1; a < D; ++a) stride_[a] = stride_[a - 1] * count_[a - 1];
     head_.assign(total, -1);
-    next_.assign(particle_count, -1);
-    cell_.assign(particle_count, 0);
+    member_.assign(particle_count, Membership{-1, 0});
   }
 
   // Empties every cell, keeping the geometry.
@@ -64,9 +63,10 @@ class CellGrid {
   std::int32_t count(int axis) const { return count_[axis]; }
   double width(int axis) const { return width_[axis]; }
   std::size_t cell_total() const { return head_.size(); }
-  std::uint32_t cell_of(std::uint32_t i) const { return cell_[i]; }
+  std::uint32_t cell_of(std::uint32_t i) const { return member_[i].cell; }
   std::int32_t head(std::uint32_t cell) const { return head_[cell]; }
-  std::int32_t next(std::uint32_t i) const { return next_[i]; }
+  void prefetch_cell(std::uint32_t cell) const { __builtin_prefetch(&head_[cell]); }
+  std::int32_t next(std::uint32_t i) const { return member_[i].next; }
 
   std::array<std::int32_t, D> coordinates(std::uint32_t cell) const {
     std::array<std::int32_t, D> c{};
@@ -92,20 +92,20 @@ class CellGrid {
   }
 
   void insert(std::uint32_t i, std::uint32_t cell) {
-    cell_[i] = cell;
-    next_[i] = head_[cell];
+    member_[i].cell = cell;
+    member_[i].next = head_[cell];
     head_[cell] = static_cast<std::int32_t>(i);
   }
 
   void erase(std::uint32_t i) {
-    std::int32_t* link = &head_[cell_[i]];
-    while (*link != static_cast<std::int32_t>(i)) link = &next_[static_cast<std::size_t>(*link)];
-    *link = next_[i];
+    std::int32_t* link = &head_[member_[i].cell];
+    while (*link != static_cast<std::int32_t>(i)) link = &member_[static_cast<std::size_t>(*link)].next;
+    *link = member_[i].next;
   }
 
   std::size_t bytes_per_particle() const {
-    const std::size_t count = std::max<std::size_t>(cell_.size(), 1);
-    return 2 * sizeof(std::int32_t) + head_.size() * sizeof(std::int32_t) / count;
+    const std::size_t count = std::max<std::size_t>(member_.size(), 1);
+    return sizeof(Membership) + head_.size() * sizeof(std::int32_t) / count;
   }
 
  private:
@@ -113,8 +113,11 @@ class CellGrid {
   std::array<std::int32_t, D> stride_{};
   std::array<double, D> width_{};
   std::vector<std::int32_t> head_;
-  std::vector<std::int32_t> next_;
-  std::vector<std::uint32_t> cell_;
+  struct Membership {
+    std::int32_t next;  // next particle in the same cell, -1 at the end
+    std::uint32_t cell;
+  };
+  std::vector<Membership> member_;
 };
 
 }  // namespace granflow::edmd

@@ -17,16 +17,13 @@ EventCalendar::EventCalendar(std::size_t particle_count) {
 }
 
 std::size_t EventCalendar::bytes_per_particle() const {
-  const std::size_t count = std::max<std::size_t>(time_.size(), 1);
-  return sizeof(double) + 3 * sizeof(std::int32_t) + (bucket_head_.size() * sizeof(std::int32_t)) / count;
+  const std::size_t count = std::max<std::size_t>(nodes_.size(), 1);
+  return sizeof(Node) + (bucket_head_.size() * sizeof(std::int32_t)) / count;
 }
 
 void EventCalendar::rebuild(double now, const std::vector<double>& times) {
   const std::size_t count = times.size();
-  time_.assign(count, std::numeric_limits<double>::infinity());
-  next_.assign(count, -1);
-  prev_.assign(count, -1);
-  where_.assign(count, nowhere);
+  nodes_.assign(count, Node{std::numeric_limits<double>::infinity(), -1, -1, nowhere});
   heap_.clear();
   overflow_head_ = -1;
   scheduled_ = 0;
@@ -53,61 +50,61 @@ void EventCalendar::rebuild(double now, const std::vector<double>& times) {
 }
 
 void EventCalendar::schedule(std::uint32_t i, double t) {
-  if (where_[i] != nowhere) remove(i);
-  time_[i] = t;
+  if (nodes_[i].where != nowhere) remove(i);
+  nodes_[i].time = t;
   if (std::isfinite(t)) insert(i);
 }
 
 void EventCalendar::unschedule(std::uint32_t i) {
-  if (where_[i] != nowhere) remove(i);
-  time_[i] = std::numeric_limits<double>::infinity();
+  if (nodes_[i].where != nowhere) remove(i);
+  nodes_[i].time = std::numeric_limits<double>::infinity();
 }
 
 void EventCalendar::insert(std::uint32_t i) {
   ++scheduled_;
-  const double bucket = std::floor((time_[i] - block_start_) * inverse_width_);
+  const double bucket = std::floor((nodes_[i].time - block_start_) * inverse_width_);
   if (bucket <= static_cast<double>(current_)) {
     heap_push(i);
   } else if (bucket < static_cast<double>(bucket_head_.size())) {
     const auto k = static_cast<std::int32_t>(bucket);
-    where_[i] = k;
+    nodes_[i].where = k;
     list_push(bucket_head_[static_cast<std::size_t>(k)], i);
   } else {
-    where_[i] = in_overflow;
+    nodes_[i].where = in_overflow;
     list_push(overflow_head_, i);
   }
 }
 
 void EventCalendar::remove(std::uint32_t i) {
   --scheduled_;
-  const std::int32_t w = where_[i];
+  const std::int32_t w = nodes_[i].where;
   if (w == in_heap)
     heap_erase(i);
   else if (w == in_overflow)
     list_erase(overflow_head_, i);
   else
     list_erase(bucket_head_[static_cast<std::size_t>(w)], i);
-  where_[i] = nowhere;
+  nodes_[i].where = nowhere;
 }
 
 void EventCalendar::list_push(std::int32_t& head, std::uint32_t i) {
-  next_[i] = head;
-  prev_[i] = -1;
-  if (head >= 0) prev_[static_cast<std::size_t>(head)] = static_cast<std::int32_t>(i);
+  nodes_[i].next = head;
+  nodes_[i].prev = -1;
+  if (head >= 0) nodes_[static_cast<std::size_t>(head)].prev = static_cast<std::int32_t>(i);
   head = static_cast<std::int32_t>(i);
 }
 
 void EventCalendar::list_erase(std::int32_t& head, std::uint32_t i) {
-  const std::int32_t n = next_[i], p = prev_[i];
+  const std::int32_t n = nodes_[i].next, p = nodes_[i].prev;
   if (p >= 0)
-    next_[static_cast<std::size_t>(p)] = n;
+    nodes_[static_cast<std::size_t>(p)].next = n;
   else
     head = n;
-  if (n >= 0) prev_[static_cast<std::size_t>(n)] = p;
+  if (n >= 0) nodes_[static_cast<std::size_t>(n)].prev = p;
 }
 
 void EventCalendar::heap_push(std::uint32_t i) {
-  where_[i] = in_heap;
+  nodes_[i].where = in_heap;
   ++loaded_in_block_;
   heap_.push_back(i);
   heap_set(heap_.size() - 1, i);
@@ -115,13 +112,13 @@ void EventCalendar::heap_push(std::uint32_t i) {
 }
 
 void EventCalendar::heap_erase(std::uint32_t i) {
-  const auto position = static_cast<std::size_t>(next_[i]);
+  const auto position = static_cast<std::size_t>(nodes_[i].next);
   const std::uint32_t last = heap_.back();
   heap_.pop_back();
   if (position == heap_.size()) return;
   heap_set(position, last);
   sift_up(position);
-  sift_down(static_cast<std::size_t>(next_[last]));
+  sift_down(static_cast<std::size_t>(nodes_[last].next));
 }
 
 void EventCalendar::sift_up(std::size_t position) {
@@ -162,15 +159,15 @@ void EventCalendar::start_next_block() {
 
   std::int32_t pending = std::exchange(overflow_head_, -1);
   double earliest_pending = std::numeric_limits<double>::infinity();
-  for (std::int32_t k = pending; k >= 0; k = next_[static_cast<std::size_t>(k)])
-    earliest_pending = std::min(earliest_pending, time_[static_cast<std::size_t>(k)]);
+  for (std::int32_t k = pending; k >= 0; k = nodes_[static_cast<std::size_t>(k)].next)
+    earliest_pending = std::min(earliest_pending, nodes_[static_cast<std::size_t>(k)].time);
   // Skip empty stretches of time in one jump instead of block by block.
   if (earliest_pending > block_start_ + width_ * static_cast<double>(bucket_head_.size()))
     block_start_ = earliest_pending;
   while (pending >= 0) {
     const auto i = static_cast<std::uint32_t>(pending);
-    pending = next_[i];
-    where_[i] = nowhere;
+    pending = nodes_[i].next;
+    nodes_[i].where = nowhere;
     --scheduled_;
     insert(i);
   }
@@ -184,7 +181,7 @@ std::uint32_t EventCalendar::earliest() {
       std::int32_t k = std::exchange(bucket_head_[current_], -1);
       while (k >= 0) {
         const auto i = static_cast<std::uint32_t>(k);
-        k = next_[i];
+        k = nodes_[i].next;
         heap_push(i);
       }
     } else {

@@ -31,7 +31,7 @@ class EventCalendar {
 
   // Particle of the earliest event (ties: lowest index), or none.
   std::uint32_t earliest();
-  double time_of(std::uint32_t i) const { return time_[i]; }
+  double time_of(std::uint32_t i) const { return nodes_[i].time; }
   std::size_t size() const { return scheduled_; }
 
   double bucket_width() const { return width_; }
@@ -47,7 +47,7 @@ class EventCalendar {
   void list_push(std::int32_t& head, std::uint32_t i);
   void list_erase(std::int32_t& head, std::uint32_t i);
   bool heap_less(std::uint32_t a, std::uint32_t b) const {
-    return time_[a] < time_[b] || (time_[a] == time_[b] && a < b);
+    return nodes_[a].time < nodes_[b].time || (nodes_[a].time == nodes_[b].time && a < b);
   }
   void heap_push(std::uint32_t i);
   void heap_erase(std::uint32_t i);
@@ -55,14 +55,18 @@ class EventCalendar {
   void sift_down(std::size_t position);
   void heap_set(std::size_t position, std::uint32_t i) {
     heap_[position] = i;
-    next_[i] = static_cast<std::int32_t>(position);
+    nodes_[i].next = static_cast<std::int32_t>(position);
   }
   void start_next_block();
 
-  std::vector<double> time_;
-  std::vector<std::int32_t> next_;   // list link, or heap position while in the heap
-  std::vector<std::int32_t> prev_;
-  std::vector<std::int32_t> where_;  // bucket index, in_heap, in_overflow or nowhere
+  // One record per particle, so an event touches one cache line of the calendar.
+  struct Node {
+    double time;
+    std::int32_t next;   // list link, or heap position while in the heap
+    std::int32_t prev;
+    std::int32_t where;  // bucket index, in_heap, in_overflow or nowhere
+  };
+  std::vector<Node> nodes_;
   std::vector<std::int32_t> bucket_head_;
   std::int32_t overflow_head_ = -1;
   std::vector<std::uint32_t> heap_;

@@ -181,7 +181,7 @@ class EventDrivenGas {
 
   // Memory the engine and the components it uses hold per particle.
   std::size_t bytes_per_particle() const {
-    return world_.component_bytes_per_entity() + sizeof(HotState) + sizeof(EventKind) + 2 * sizeof(std::uint32_t) + sizeof(double) +
+    return world_.component_bytes_per_entity() + sizeof(HotState) + sizeof(Plan) +
            grid_.bytes_per_particle() + calendar_.bytes_per_particle();
   }
 
@@ -206,10 +206,7 @@ class EventDrivenGas {
       hot_[i].t = now;
       grid_.insert(i, grid_.locate(hot_[i].x));
     }
-    event_kind_.assign(count, EventKind::none);
-    partner_.assign(count, 0);
-    partner_count_.assign(count, 0);
-    collision_time_.assign(count, never);
+    plan_.assign(count, Plan{never, 0, 0, EventKind::none});
     now_ = now;
     std::vector<double> first_events(count);
     for (std::uint32_t i = 0; i < count; ++i) first_events[i] = predict(i);
@@ -283,9 +280,9 @@ class EventDrivenGas {
     std::uint32_t partner = 0;
     double best_collision = never;
     if (entered_face >= 0) {
-      if (collision_time_[i] == never || count_[partner_[i]] == partner_count_[i]) {
-        best_collision = collision_time_[i];
-        partner = partner_[i];
+      if (plan_[i].collision_time == never || count_[plan_[i].partner] == plan_[i].partner_count) {
+        best_collision = plan_[i].collision_time;
+        partner = plan_[i].partner;
       } else {
         entered_face = -1;  // the stored collision is stale: scan everything
       }
@@ -320,6 +317,9 @@ class EventDrivenGas {
     // dependent cache miss after another.
     candidates_.clear();
     std::array<Vec<D>, CellGrid<D>::neighbour_count> shifts;
+    std::array<std::uint32_t, CellGrid<D>::neighbour_count> cells;
+    std::array<std::uint8_t, CellGrid<D>::neighbour_count> slots;
+    int used = 0;
     std::array<std::int32_t, D> offset;
     offset.fill(-1);
     for (std::uint8_t n = 0; n < CellGrid<D>::neighbour_count; ++n) {
@@ -346,9 +346,15 @@ class EventDrivenGas {
         offset[a] = -1;
       }
       if (!inside || !wanted) continue;
-      for (std::int32_t k = grid_.head(grid_.linear(c)); k >= 0; k = grid_.next(static_cast<std::uint32_t>(k)))
-        if (static_cast<std::uint32_t>(k) != i) candidates_.push_back({static_cast<std::uint32_t>(k), n});
+      cells[used] = grid_.linear(c);
+      slots[used++] = n;
+      grid_.prefetch_cell(cells[used - 1]);
     }
+    for (int u = 0; u < used; ++u)
+      for (std::int32_t k = grid_.head(cells[u]); k >= 0; k = grid_.next(static_cast<std::uint32_t>(k))) {
+        __builtin_prefetch(&hot_[static_cast<std::size_t>(k)]);
+        if (static_cast<std::uint32_t>(k) != i) candidates_.push_back({static_cast<std::uint32_t>(k), slots[u]});
+      }
     for (const auto [j, n] : candidates_) {
       const HotState& other = hot_[j];
       const Vec<D> dx = other.x + other.v * (now_ - other.t) + shifts[n] - xi;
@@ -359,28 +365,28 @@ class EventDrivenGas {
       }
     }
     if (best_collision < never) {
-      collision_time_[i] = best_collision;
-      partner_[i] = partner;
-      partner_count_[i] = count_[partner];
+      plan_[i].collision_time = best_collision;
+      plan_[i].partner = partner;
+      plan_[i].partner_count = count_[partner];
     } else {
-      collision_time_[i] = never;
+      plan_[i].collision_time = never;
     }
     if (best_collision <= best) {
       best = best_collision;
       kind = best < never ? EventKind::collision : EventKind::none;
     }
-    event_kind_[i] = kind;
+    plan_[i].kind = kind;
     return best;
   }
 
   void repredict(std::uint32_t i, int entered_face = -1) { calendar_.schedule(i, predict(i, entered_face)); }
 
   void process(std::uint32_t i) {
-    const EventKind kind = event_kind_[i];
+    const EventKind kind = plan_[i].kind;
     if (kind == EventKind::collision) {
-      const std::uint32_t j = partner_[i];
+      const std::uint32_t j = plan_[i].partner;
       advance_particle(i);
-      if (count_[j] != partner_count_[i]) {
+      if (count_[j] != plan_[i].partner_count) {
         ++statistics_.stale_events;
         repredict(i);
         return;
@@ -467,15 +473,21 @@ class EventDrivenGas {
   double* last_collision_ = nullptr;
   std::uint32_t* id_ = nullptr;
 
-  std::vector<EventKind> event_kind_;
+  // What a particle has scheduled, in one record: its earliest collision
+  // (possibly later than its event), that partner and the partner's
+  // collision count at prediction, and the kind of its event.
+  struct Plan {
+    double collision_time;
+    std::uint32_t partner;
+    std::uint32_t partner_count;
+    EventKind kind;
+  };
+  std::vector<Plan> plan_;
   struct Candidate {
     std::uint32_t particle;
     std::uint8_t shift;
   };
   std::vector<Candidate> candidates_;
-  std::vector<std::uint32_t> partner_;
-  std::vector<std::uint32_t> partner_count_;
-  std::vector<double> collision_time_;  // earliest predicted collision, possibly later than the event
 
   double now_ = 0.0;
   double kinetic_energy_ = 0.0;
