@@ -84,14 +84,25 @@ void expect_haff(const HaffCase& c) {
     EXPECT_GE(deviation, -0.01 - 3 * relative_error) << "xi " << c.restitution << " t = " << multiples[k] << " tau0";
     EXPECT_LE(deviation, upper_bound[k] + 3 * relative_error)
         << "xi " << c.restitution << " t = " << multiples[k] << " tau0";
-    if (k + 1 == multiples.size()) EXPECT_GT(deviation, 0.0) << "xi " << c.restitution << " cools faster than Haff";
+    if (k + 1 == multiples.size()) {
+      EXPECT_GT(deviation, 0.0) << "xi " << c.restitution << " cools faster than Haff";
+    }
     std::printf("xi %.2f  t/tau0 %5.1f  T/T0 %.5f  Haff %.5f  deviation %+.2f%% +- %.2f%%\n", c.restitution,
                 multiples[k], mean, haff, 100 * deviation, 100 * relative_error);
   }
 }
 
-TEST(HaffLaw, Restitution09) { expect_haff({0.9, 4000, 4}); }
-TEST(HaffLaw, Restitution05) { expect_haff({0.5, 4000, 4}); }
+// The CI variant uses N = 4000; the `long` variant (GRANFLOW_HAFF_LONG)
+// N = 10^5, where finite-size effects are smaller, and adds xi = 0.7 for
+// comparison with the published +2.8 % (tau0) / +7 % (10 tau0).
+#ifdef GRANFLOW_HAFF_LONG
+constexpr std::int64_t haff_particles = 100000;
+TEST(HaffLawLong, Restitution07) { expect_haff({0.7, haff_particles, 4}); }
+#else
+constexpr std::int64_t haff_particles = 4000;
+#endif
+TEST(HaffLaw, Restitution09) { expect_haff({0.9, haff_particles, 4}); }
+TEST(HaffLaw, Restitution05) { expect_haff({0.5, haff_particles, 4}); }
 
 }  // namespace
 }  // namespace granflow::edmd
