@@ -18,14 +18,14 @@ EventCalendar::EventCalendar(std::size_t particle_count) {
 
 std::size_t EventCalendar::bytes_per_particle() const {
   const std::size_t count = std::max<std::size_t>(nodes_.size(), 1);
-  return sizeof(Node) + (bucket_head_.size() * sizeof(std::int32_t)) / count;
+  return sizeof(Node) + ((bucket_head_.size() + overflow_.capacity()) * sizeof(std::int32_t)) / count;
 }
 
 void EventCalendar::rebuild(double now, const std::vector<double>& times) {
   const std::size_t count = times.size();
-  nodes_.assign(count, Node{std::numeric_limits<double>::infinity(), -1, -1, nowhere});
+  nodes_.assign(count, Node{std::numeric_limits<double>::infinity(), -1, nowhere});
   heap_.clear();
-  overflow_head_ = -1;
+  overflow_.clear();
   scheduled_ = 0;
   // Half a bucket head per particle keeps the calendar at ~22 bytes per particle.
   const std::size_t buckets = std::max<std::size_t>(count / 2, 64);
@@ -71,7 +71,8 @@ void EventCalendar::insert(std::uint32_t i) {
     list_push(bucket_head_[static_cast<std::size_t>(k)], i);
   } else {
     nodes_[i].where = in_overflow;
-    list_push(overflow_head_, i);
+    nodes_[i].next = static_cast<std::int32_t>(overflow_.size());
+    overflow_.push_back(i);
   }
 }
 
@@ -81,7 +82,7 @@ void EventCalendar::remove(std::uint32_t i) {
   if (w == in_heap)
     heap_erase(i);
   else if (w == in_overflow)
-    list_erase(overflow_head_, i);
+    overflow_erase(i);
   else
     list_erase(bucket_head_[static_cast<std::size_t>(w)], i);
   nodes_[i].where = nowhere;
@@ -89,18 +90,23 @@ void EventCalendar::remove(std::uint32_t i) {
 
 void EventCalendar::list_push(std::int32_t& head, std::uint32_t i) {
   nodes_[i].next = head;
-  nodes_[i].prev = -1;
-  if (head >= 0) nodes_[static_cast<std::size_t>(head)].prev = static_cast<std::int32_t>(i);
   head = static_cast<std::int32_t>(i);
 }
 
+// Buckets hold a few events, so finding the predecessor by a walk is cheaper
+// than keeping back links.
 void EventCalendar::list_erase(std::int32_t& head, std::uint32_t i) {
-  const std::int32_t n = nodes_[i].next, p = nodes_[i].prev;
-  if (p >= 0)
-    nodes_[static_cast<std::size_t>(p)].next = n;
-  else
-    head = n;
-  if (n >= 0) nodes_[static_cast<std::size_t>(n)].prev = p;
+  std::int32_t* link = &head;
+  while (*link != static_cast<std::int32_t>(i)) link = &nodes_[static_cast<std::size_t>(*link)].next;
+  *link = nodes_[i].next;
+}
+
+void EventCalendar::overflow_erase(std::uint32_t i) {
+  const auto position = static_cast<std::size_t>(nodes_[i].next);
+  const std::uint32_t last = overflow_.back();
+  overflow_[position] = last;
+  nodes_[last].next = static_cast<std::int32_t>(position);
+  overflow_.pop_back();
 }
 
 void EventCalendar::heap_push(std::uint32_t i) {
@@ -157,20 +163,19 @@ void EventCalendar::start_next_block() {
   current_ = 0;
   loaded_in_block_ = 0;
 
-  std::int32_t pending = std::exchange(overflow_head_, -1);
+  std::vector<std::uint32_t> pending;
+  pending.swap(overflow_);
   double earliest_pending = std::numeric_limits<double>::infinity();
-  for (std::int32_t k = pending; k >= 0; k = nodes_[static_cast<std::size_t>(k)].next)
-    earliest_pending = std::min(earliest_pending, nodes_[static_cast<std::size_t>(k)].time);
+  for (std::uint32_t i : pending) earliest_pending = std::min(earliest_pending, nodes_[i].time);
   // Skip empty stretches of time in one jump instead of block by block.
   if (earliest_pending > block_start_ + width_ * static_cast<double>(bucket_head_.size()))
     block_start_ = earliest_pending;
-  while (pending >= 0) {
-    const auto i = static_cast<std::uint32_t>(pending);
-    pending = nodes_[i].next;
+  for (std::uint32_t i : pending) {
     nodes_[i].where = nowhere;
     --scheduled_;
     insert(i);
   }
+  overflow_.reserve(pending.capacity());
 }
 
 std::uint32_t EventCalendar::earliest() {

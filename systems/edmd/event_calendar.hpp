@@ -46,6 +46,7 @@ class EventCalendar {
   void remove(std::uint32_t i);
   void list_push(std::int32_t& head, std::uint32_t i);
   void list_erase(std::int32_t& head, std::uint32_t i);
+  void overflow_erase(std::uint32_t i);
   bool heap_less(std::uint32_t a, std::uint32_t b) const {
     return nodes_[a].time < nodes_[b].time || (nodes_[a].time == nodes_[b].time && a < b);
   }
@@ -62,13 +63,12 @@ class EventCalendar {
   // One record per particle, so an event touches one cache line of the calendar.
   struct Node {
     double time;
-    std::int32_t next;   // list link, or heap position while in the heap
-    std::int32_t prev;
+    std::int32_t next;   // bucket list link, or position in the heap or overflow
     std::int32_t where;  // bucket index, in_heap, in_overflow or nowhere
   };
   std::vector<Node> nodes_;
   std::vector<std::int32_t> bucket_head_;
-  std::int32_t overflow_head_ = -1;
+  std::vector<std::uint32_t> overflow_;  // unordered; a member's Node::next is its position here
   std::vector<std::uint32_t> heap_;
 
   double block_start_ = 0.0;
