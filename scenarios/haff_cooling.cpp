@@ -45,6 +45,18 @@ const ConfigSchema& haff_cooling_schema() {
 
 namespace {
 
+// Whichever stop criterion is closest decides how far the run has come; the
+// energy criterion is measured on a log scale, as the gas cools geometrically.
+double progress_fraction(double time, double t_stop, std::uint64_t collisions, const edmd::AdvanceLimits& limits,
+                         double energy, double energy0) {
+  double fraction = time / t_stop;
+  if (limits.max_pair_collisions < std::numeric_limits<std::uint64_t>::max())
+    fraction = std::max(fraction, static_cast<double>(collisions) / static_cast<double>(limits.max_pair_collisions));
+  if (limits.min_kinetic_energy > 0 && energy > 0 && energy0 > limits.min_kinetic_energy)
+    fraction = std::max(fraction, std::log(energy0 / energy) / std::log(energy0 / limits.min_kinetic_energy));
+  return fraction;
+}
+
 template <int D>
 int run(const Config& config, const RunOptions& options) {
   const auto count = static_cast<std::size_t>(config.integer("system.count"));
@@ -100,13 +112,16 @@ int run(const Config& config, const RunOptions& options) {
                                             static_cast<int>(config.integer("output.points_per_decade")))
                          : linear_output_times(t_stop, config.real("output.interval"));
   const bool all_frames = config.text("output.positions") == "all";
+  const double energy0 = gas.kinetic_energy();
   Progress progress("haff_cooling", "collisions/s", options.progress);
   for (double t : times) {
     control.target_time = t;
     schedule.run(world);
     if (all_frames) append_particle_frame<D>(file, world, world.resource<Clock>().step, gas.time());
     file.flush();
-    progress.update(gas.time() / t_stop, static_cast<double>(gas.statistics().pair_collisions));
+    progress.update(progress_fraction(gas.time(), t_stop, gas.statistics().pair_collisions, limits,
+                                      gas.kinetic_energy(), energy0),
+                    static_cast<double>(gas.statistics().pair_collisions));
     if (control.stop) break;
   }
   progress.finish();
