@@ -94,6 +94,8 @@ int command_line_main(int argc, char** argv) {
   run->add_option("--threads", options.threads, "worker threads (default: all cores)")->check(CLI::Range(1, 4096));
   run->add_flag("--profile", options.profile, "print per-system timings (always stored under /profile)");
   run->add_flag("-q,--quiet", quiet, "no progress or info messages");
+  run->add_flag("--resume", options.resume,
+                "continue an interrupted run from OUTPUT.checkpoint (same configuration and --set options)");
 
   auto* list = app.add_subcommand("list", "list scenarios and systems");
   std::string info_path;

@@ -251,6 +251,10 @@ void H5mdFile::write_profile(const std::vector<ProfileEntry>& entries) {
   write_dataset(profile, "mean_seconds", H5T_NATIVE_DOUBLE, mean.data(), shape);
 }
 
+void H5mdFile::write_array(const std::string& group_path, const std::string& name, const std::vector<double>& values) {
+  write_dataset(group(group_path), name, H5T_NATIVE_DOUBLE, values.data(), {values.size()});
+}
+
 void H5mdFile::write_attribute(const std::string& path, const std::string& name, const std::string& value) {
   write_string_attribute(group(path), name, value);
 }

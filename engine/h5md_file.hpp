@@ -38,6 +38,8 @@ class H5mdFile {
   // A fixed, time-independent observable (a histogram's bin edges, a fitted constant).
   void write_observable_constant(const std::string& name, const std::vector<double>& value);
   void write_profile(const std::vector<ProfileEntry>& entries);
+  // A plain 1D dataset at group_path/name (for checkpoint state).
+  void write_array(const std::string& group_path, const std::string& name, const std::vector<double>& values);
   void write_attribute(const std::string& group, const std::string& name, const std::string& value);
   void write_attribute(const std::string& group, const std::string& name, double value);
   void flush();

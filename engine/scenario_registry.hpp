@@ -15,6 +15,7 @@ struct RunOptions {
   int threads = 0;          // 0: all cores
   bool profile = false;
   bool progress = true;
+  bool resume = false;      // continue from OUTPUT.checkpoint
 };
 
 // Exit status of a run: 0 done, 3 stopped by a physical failure (e.g. collapse).

@@ -4,6 +4,9 @@
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
 
+#include <chrono>
+#include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 
@@ -15,6 +18,7 @@
 #include "engine/run_control.hpp"
 #include "engine/schedule.hpp"
 #include "scenarios/output_times.hpp"
+#include "systems/edmd/edmd_checkpoint.hpp"
 #include "systems/edmd/event_driven_step.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/edmd/kinetic_theory.hpp"
@@ -37,7 +41,10 @@ const ConfigSchema& haff_cooling_schema() {
               "first output time after t = 0 (log spacing)", true)
         .integer("output.points_per_decade", 20, 1, 1000, "outputs per decade of time (log spacing)")
         .choice("output.positions", "final", {"none", "final", "all"},
-                "particle positions and velocities: not at all, at the end, or at every output time");
+                "particle positions and velocities: not at all, at the end, or at every output time")
+        .real("output.checkpoint_interval", 600.0, 0.0, std::numeric_limits<double>::infinity(),
+              "wall-clock seconds between checkpoints (written at output times to OUTPUT.checkpoint; 0: at "
+              "every output, inf: never); resume with --resume");
     return s;
   }();
   return schema;
@@ -63,48 +70,80 @@ int run(const Config& config, const RunOptions& options) {
   const std::string output_path = options.output_path.empty() ? "haff.h5" : options.output_path;
   spdlog::info("haff_cooling: {}D, N = {}, seed = {}", D, count, config.integer("run.seed"));
 
+  const std::string checkpoint_path = output_path + ".checkpoint";
+  const std::vector<std::string> observables{"kinetic_energy", "temperature", "collisions_per_particle"};
+  const std::vector<std::string> derived_names{"packing_fraction", "initial_temperature", "initial_kinetic_energy",
+                                               "enskog_collision_frequency", "haff_tau0"};
+
   World world(count);
-  edmd::build_gas<D>(world, config);
+  std::map<std::string, double> derived;
+  std::optional<edmd::CheckpointContents> resumed;
+  if (options.resume) {
+    if (!std::filesystem::exists(checkpoint_path))
+      throw ConfigError(fmt::format("--resume: there is no checkpoint '{}' to resume from", checkpoint_path));
+    resumed = edmd::read_checkpoint<D>(checkpoint_path, world, observables, derived_names);
+    if (resumed->configuration != config.to_toml())
+      throw ConfigError(fmt::format("--resume: checkpoint '{}' was written with a different configuration; resume "
+                                    "with the same file and --set options, or delete the checkpoint",
+                                    checkpoint_path));
+    world.emplace_resource<Box<D>>(edmd::box_from<D>(config));
+    derived = resumed->derived;
+    spdlog::info("resuming from {} at t = {:.6g}", checkpoint_path, resumed->clock.time);
+  } else {
+    edmd::build_gas<D>(world, config);
+    const auto& box = world.resource<Box<D>>();
+    const double eta = theory::packing_fraction<D>(static_cast<double>(count), config.real("system.radius"),
+                                                   box.volume());
+    const double energy = total_kinetic_energy<D>(world);
+    const double temperature0 = 2.0 / D * energy / static_cast<double>(count);
+    const double omega0 = theory::collision_frequency<D>(static_cast<double>(count) / box.volume(),
+                                                         2 * config.real("system.radius"), temperature0,
+                                                         config.real("system.mass"), eta);
+    derived = {{"packing_fraction", eta},
+               {"initial_temperature", temperature0},
+               {"initial_kinetic_energy", energy},
+               {"enskog_collision_frequency", omega0},
+               {"haff_tau0", theory::haff_time<D>(config.real("collision.restitution"), omega0)}};
+  }
   const auto& box = world.resource<Box<D>>();
-  const double mass = config.real("system.mass");
-  const double radius = config.real("system.radius");
-  const double eta = theory::packing_fraction<D>(static_cast<double>(count), radius, box.volume());
-  const double temperature0 = 2.0 / D * total_kinetic_energy<D>(world) / static_cast<double>(count);
-  const double omega0 = theory::collision_frequency<D>(static_cast<double>(count) / box.volume(), 2 * radius,
-                                                       temperature0, mass, eta);
-  const double tau0 = theory::haff_time<D>(config.real("collision.restitution"), omega0);
-  spdlog::info("packing fraction {:.4f}, T0 = {:.6g}, Enskog collision frequency {:.4g}, Haff tau0 = {:.4g}", eta,
-               temperature0, omega0, tau0);
+  const double temperature0 = derived.at("initial_temperature");
+  const double tau0 = derived.at("haff_tau0");
+  spdlog::info("packing fraction {:.4f}, T0 = {:.6g}, Enskog collision frequency {:.4g}, Haff tau0 = {:.4g}",
+               derived.at("packing_fraction"), temperature0, derived.at("enskog_collision_frequency"), tau0);
 
   edmd::EventDrivenGas<D> gas(world, edmd::collision_parameters_from(config));
-  gas.start(0.0);
-  world.emplace_resource<Clock>();
+  if (resumed)
+    gas.restore_state(resumed->engine);
+  else
+    gas.start(0.0);
+  auto& clock = world.emplace_resource<Clock>();
+  if (resumed) clock = resumed->clock;
   auto& control = world.emplace_resource<RunControl>();
   auto& store = world.emplace_resource<ObservableStore>();
-  const std::vector<std::string> observables{"kinetic_energy", "temperature", "collisions_per_particle"};
   for (const auto& name : observables) store.declare(name);
 
   H5mdFile file(output_path, "haff_cooling");
   file.write_parameters(config);
   file.write_box(box.edges(), box.h5md_boundary());
-  file.write_attribute("/parameters/derived", "packing_fraction", eta);
-  file.write_attribute("/parameters/derived", "initial_temperature", temperature0);
-  file.write_attribute("/parameters/derived", "enskog_collision_frequency", omega0);
-  file.write_attribute("/parameters/derived", "haff_tau0", tau0);
+  for (const auto& [name, value] : derived) file.write_attribute("/parameters/derived", name, value);
   file.write_attribute("/parameters/derived", "bytes_per_particle", static_cast<double>(gas.bytes_per_particle()));
 
   edmd::AdvanceLimits limits;
   const double max_cpp = config.real("run.max_collisions_per_particle");
   if (std::isfinite(max_cpp))
     limits.max_pair_collisions = static_cast<std::uint64_t>(std::ceil(max_cpp * static_cast<double>(count) / 2));
-  limits.min_kinetic_energy = config.real("run.min_energy_fraction") * gas.kinetic_energy();
+  const double energy0 = derived.at("initial_kinetic_energy");
+  limits.min_kinetic_energy = config.real("run.min_energy_fraction") * energy0;
 
   Profiler profiler;
   Schedule schedule(profiler);
   schedule.emplace<edmd::EventDrivenStep<D>>(gas, limits);
   schedule.emplace<KineticEnergyObserver<D>>();
   schedule.emplace<CollisionsPerParticleObserver<D>>(gas);
-  schedule.emplace<ObservableWriter>(file, observables);
+  auto& writer = schedule.emplace<ObservableWriter>(file, observables);
+  if (resumed)
+    for (const auto& [name, samples] : resumed->observables)
+      for (const auto& sample : samples) writer.append(name, sample);
 
   const double t_stop = config.real("run.t_stop");
   const auto times = config.text("output.spacing") == "log"
@@ -112,10 +151,13 @@ int run(const Config& config, const RunOptions& options) {
                                             static_cast<int>(config.integer("output.points_per_decade")))
                          : linear_output_times(t_stop, config.real("output.interval"));
   const bool all_frames = config.text("output.positions") == "all";
-  const double energy0 = gas.kinetic_energy();
+  if (resumed && all_frames)
+    spdlog::warn("output.positions = \"all\": frames written before the checkpoint are not carried over");
+  const double checkpoint_interval = config.real("output.checkpoint_interval");
+  auto last_checkpoint = std::chrono::steady_clock::now();
   Progress progress("haff_cooling", "collisions/s", options.progress);
-  for (double t : times) {
-    control.target_time = t;
+  for (std::size_t k = resumed ? resumed->next_output : 0; k < times.size(); ++k) {
+    control.target_time = times[k];
     schedule.run(world);
     if (all_frames) append_particle_frame<D>(file, world, world.resource<Clock>().step, gas.time());
     file.flush();
@@ -123,6 +165,11 @@ int run(const Config& config, const RunOptions& options) {
                                       gas.kinetic_energy(), energy0),
                     static_cast<double>(gas.statistics().pair_collisions));
     if (control.stop) break;
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_checkpoint).count() >= checkpoint_interval && k + 1 < times.size()) {
+      edmd::write_checkpoint<D>(checkpoint_path, "haff_cooling", config, world, gas, writer, k + 1, derived);
+      last_checkpoint = now;
+    }
   }
   progress.finish();
 
@@ -136,6 +183,7 @@ int run(const Config& config, const RunOptions& options) {
   file.write_attribute("/observables", "dissipated_energy", stats.dissipated_energy);
   file.write_profile(profiler.entries());
   file.finish();
+  std::filesystem::remove(checkpoint_path);
 
   spdlog::info("t = {:.6g}: {} collisions ({:.2f} per particle), T/T0 = {:.4g}, Haff predicts {:.4g}", gas.time(),
                stats.pair_collisions, 2.0 * static_cast<double>(stats.pair_collisions) / static_cast<double>(count),

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -46,6 +47,24 @@ class CollapseMonitor {
     latest_ = collisions / elapsed / thermal_speed;
     baseline_ = std::min(baseline_, latest_);
     return latest_ > factor * baseline_;
+  }
+
+  // The monitor's whole state, for checkpoints.
+  std::vector<double> state() const {
+    return {static_cast<double>(particles_), static_cast<double>(batch_), static_cast<double>(batch_start_collisions_),
+            batch_start_time_, baseline_, latest_, kinetic_energy_, elapsed_, now_, stalled_ ? 1.0 : 0.0};
+  }
+  void restore(const std::vector<double>& s) {
+    particles_ = static_cast<std::size_t>(s.at(0));
+    batch_ = static_cast<std::uint64_t>(s.at(1));
+    batch_start_collisions_ = static_cast<std::uint64_t>(s.at(2));
+    batch_start_time_ = s.at(3);
+    baseline_ = s.at(4);
+    latest_ = s.at(5);
+    kinetic_energy_ = s.at(6);
+    elapsed_ = s.at(7);
+    now_ = s.at(8);
+    stalled_ = s.at(9) != 0.0;
   }
 
   std::string diagnosis(double contact_time) const {

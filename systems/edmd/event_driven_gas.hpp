@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <string>
 #include <vector>
@@ -178,6 +179,74 @@ class EventDrivenGas {
   const CollisionParameters& parameters() const { return parameters_; }
 
   void set_event_observer(std::function<void(const EventRecord&)> observer) { observer_ = std::move(observer); }
+
+  // Everything the engine needs to continue exactly where it was, beside the
+  // World's components (kept in the same storage order), as flat arrays.
+  // Cell lists are rebuilt on restore, which can change the order in which
+  // equal-time candidate collisions are compared, and nothing else.
+  std::map<std::string, std::vector<double>> save_state() const {
+    std::map<std::string, std::vector<double>> out;
+    const std::size_t n = world_.size();
+    auto& hot = out["hot"];
+    auto& plan = out["plan"];
+    auto& cell = out["cell"];
+    auto& event = out["event_time"];
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int a = 0; a < D; ++a) hot.push_back(hot_[i].x[a]);
+      for (int a = 0; a < D; ++a) hot.push_back(hot_[i].v[a]);
+      hot.push_back(hot_[i].t);
+      hot.push_back(hot_[i].r);
+      plan.insert(plan.end(), {plan_[i].collision_time, static_cast<double>(plan_[i].partner),
+                               static_cast<double>(plan_[i].partner_count), static_cast<double>(plan_[i].kind)});
+      cell.push_back(grid_.cell_of(static_cast<std::uint32_t>(i)));
+      event.push_back(calendar_.time_of(static_cast<std::uint32_t>(i)));
+    }
+    const auto& s = statistics_;
+    out["scalars"] = {now_, kinetic_energy_, static_cast<double>(next_resort_), static_cast<double>(s.pair_collisions),
+                      static_cast<double>(s.wall_collisions), static_cast<double>(s.cell_crossings),
+                      static_cast<double>(s.stale_events), s.dissipated_energy, s.wall_dissipated_energy, s.virial};
+    out["collapse"] = collapse_.state();
+    return out;
+  }
+
+  // Continues from save_state() output; the World must hold the components
+  // as they were when it was saved.
+  void restore_state(const std::map<std::string, std::vector<double>>& in) {
+    const std::size_t n = world_.size();
+    const auto& radius = world_.template component<Radius>();
+    const double max_radius = n ? *std::max_element(radius.values.begin(), radius.values.end()) : 0.0;
+    grid_.reset(world_.template resource<Box<D>>(), 2.0 * max_radius, n);
+    bind();
+    const auto& hot = in.at("hot");
+    const auto& plan = in.at("plan");
+    const auto& cell = in.at("cell");
+    if (hot.size() != n * (2 * D + 2) || plan.size() != 4 * n || cell.size() != n)
+      throw std::invalid_argument("checkpoint does not match the number of particles");
+    plan_.assign(n, Plan{never, 0, 0, EventKind::none});
+    for (std::size_t i = 0; i < n; ++i) {
+      const double* h = &hot[i * (2 * D + 2)];
+      for (int a = 0; a < D; ++a) hot_[i].x[a] = h[a];
+      for (int a = 0; a < D; ++a) hot_[i].v[a] = h[D + a];
+      hot_[i].t = h[2 * D];
+      hot_[i].r = h[2 * D + 1];
+      plan_[i] = Plan{plan[4 * i], static_cast<std::uint32_t>(plan[4 * i + 1]),
+                      static_cast<std::uint32_t>(plan[4 * i + 2]), static_cast<EventKind>(plan[4 * i + 3])};
+      grid_.insert(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(cell[i]));
+    }
+    const auto& s = in.at("scalars");
+    now_ = s.at(0);
+    calendar_.rebuild(now_, in.at("event_time"));
+    kinetic_energy_ = s.at(1);
+    next_resort_ = static_cast<std::uint64_t>(s.at(2));
+    statistics_.pair_collisions = static_cast<std::uint64_t>(s.at(3));
+    statistics_.wall_collisions = static_cast<std::uint64_t>(s.at(4));
+    statistics_.cell_crossings = static_cast<std::uint64_t>(s.at(5));
+    statistics_.stale_events = static_cast<std::uint64_t>(s.at(6));
+    statistics_.dissipated_energy = s.at(7);
+    statistics_.wall_dissipated_energy = s.at(8);
+    statistics_.virial = s.at(9);
+    collapse_.restore(in.at("collapse"));
+  }
 
   // Memory the engine and the components it uses hold per particle.
   std::size_t bytes_per_particle() const {

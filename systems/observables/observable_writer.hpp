@@ -3,6 +3,8 @@
 // The only system that touches the output file, so HDF5 is never called from
 // two threads.
 
+#include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -33,17 +35,31 @@ class ObservableWriter : public System {
     for (const auto& name : observables_) {
       auto& slot = store.slot(name);
       if (!slot.fresh) continue;
-      if (slot.value.size() == 1)
-        file_.append_observable(name, clock.step, clock.time, slot.value.front());
-      else
-        file_.append_observable(name, clock.step, clock.time, slot.value);
+      append(name, {clock.step, clock.time, slot.value});
       slot.fresh = false;
     }
+  }
+
+  struct Sample {
+    std::int64_t step;
+    double time;
+    std::vector<double> value;
+  };
+  // Everything written so far, so a checkpoint can carry it and a resumed
+  // run can write it again into its fresh output file.
+  const std::map<std::string, std::vector<Sample>>& history() const { return history_; }
+  void append(const std::string& name, const Sample& sample) {
+    if (sample.value.size() == 1)
+      file_.append_observable(name, sample.step, sample.time, sample.value.front());
+    else
+      file_.append_observable(name, sample.step, sample.time, sample.value);
+    history_[name].push_back(sample);
   }
 
  private:
   H5mdFile& file_;
   std::vector<std::string> observables_;
+  std::map<std::string, std::vector<Sample>> history_;
 };
 
 }  // namespace granflow

@@ -72,6 +72,38 @@ PY
 else
   echo "FAIL: /usr/bin/python3 with h5py is needed for the output checks"; failures=$((failures + 1))
 fi
+# An interrupted run resumed from its checkpoint gives the same output as an
+# uninterrupted one, bit for bit.
+long=(--set system.count=30000 --set system.radius=0.008 --set run.t_stop=5 --set output.checkpoint_interval=0
+      --set initial.equilibration_collisions=5 -q)
+"$granflow" run "$scenario" "${long[@]}" -o "$work/whole.h5" || { echo "FAIL: uninterrupted run"; failures=$((failures + 1)); }
+"$granflow" run "$scenario" "${long[@]}" -o "$work/cut.h5" &
+pid=$!
+for _ in $(seq 100); do [[ -e "$work/cut.h5.checkpoint" ]] && break; sleep 0.05; done
+sleep 0.3
+kill -9 $pid 2>/dev/null; wait $pid 2>/dev/null
+if [[ -e "$work/cut.h5" ]]; then
+  echo "FAIL: the run finished before it could be interrupted; make it longer"; failures=$((failures + 1))
+else
+  [[ -e "$work/cut.h5.checkpoint" ]] || { echo "FAIL: no checkpoint written"; failures=$((failures + 1)); }
+  expect_error "different configuration" run "$scenario" "${long[@]}" --set run.seed=2 -o "$work/cut.h5" --resume
+  "$granflow" run "$scenario" "${long[@]}" -o "$work/cut.h5" --resume || { echo "FAIL: resume"; failures=$((failures + 1)); }
+  [[ -e "$work/cut.h5.checkpoint" ]] && { echo "FAIL: checkpoint left after a finished run"; failures=$((failures + 1)); }
+  /usr/bin/python3 - "$work/whole.h5" "$work/cut.h5" <<'PY' || failures=$((failures + 1))
+import sys, h5py, numpy as np
+a, b = (h5py.File(p, "r") for p in sys.argv[1:])
+for name in ("kinetic_energy", "collisions_per_particle"):
+    for part in ("step", "time", "value"):
+        if not np.array_equal(a[f"/observables/{name}/{part}"][()], b[f"/observables/{name}/{part}"][()]):
+            sys.exit(f"FAIL: resumed run differs in {name}/{part}")
+for element in ("position", "velocity"):
+    if not np.array_equal(a[f"/particles/all/{element}/value"][()], b[f"/particles/all/{element}/value"][()]):
+        sys.exit(f"FAIL: resumed run differs in final {element}")
+print("ok: interrupted and resumed run is identical to the uninterrupted one")
+PY
+fi
+expect_error "there is no checkpoint" run "$scenario" "${small[@]}" -o "$work/none.h5" --resume
+
 "$granflow" list | grep -q haff_cooling || { echo "FAIL: list"; failures=$((failures + 1)); }
 expect_error "is not an HDF5 file" info "$scenario"
 
