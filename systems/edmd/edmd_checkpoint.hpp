@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <map>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,7 @@
 #include "engine/h5md_reader.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 #include "systems/observables/observable_writer.hpp"
+#include "systems/observables/particle_snapshot.hpp"
 
 namespace granflow::edmd {
 
@@ -36,16 +38,12 @@ struct CheckpointContents {
 };
 
 namespace detail {
+// Storage order, not id order: the engine's state refers to storage indices.
 template <class Column>
 std::vector<double> column_as_doubles(const Column& column) {
-  std::vector<double> out;
-  for (const auto& v : column.values) {
-    if constexpr (std::is_arithmetic_v<typename Column::value_type>)
-      out.push_back(static_cast<double>(v));
-    else
-      for (int a = 0; a < v.size(); ++a) out.push_back(v[a]);
-  }
-  return out;
+  std::vector<std::uint32_t> identity(column.size());
+  std::iota(identity.begin(), identity.end(), 0u);
+  return flatten_by_id(column, identity);
 }
 template <class Column>
 void column_from_doubles(Column& column, const std::vector<double>& data) {
