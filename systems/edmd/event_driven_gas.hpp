@@ -197,7 +197,7 @@ class EventDrivenGas {
       hot.push_back(hot_[i].t);
       hot.push_back(hot_[i].r);
       plan.insert(plan.end(), {plan_[i].collision_time, static_cast<double>(plan_[i].partner),
-                               static_cast<double>(plan_[i].partner_count), static_cast<double>(plan_[i].kind)});
+                               static_cast<double>(plan_[i].partner_count), static_cast<double>(event_kind_[i])});
       cell.push_back(grid_.cell_of(static_cast<std::uint32_t>(i)));
       event.push_back(calendar_.time_of(static_cast<std::uint32_t>(i)));
     }
@@ -222,7 +222,8 @@ class EventDrivenGas {
     const auto& cell = in.at("cell");
     if (hot.size() != n * (2 * D + 2) || plan.size() != 4 * n || cell.size() != n)
       throw std::invalid_argument("checkpoint does not match the number of particles");
-    plan_.assign(n, Plan{never, 0, 0, EventKind::none});
+    plan_.assign(n, Plan{never, 0, 0});
+    event_kind_.assign(n, EventKind::none);
     for (std::size_t i = 0; i < n; ++i) {
       const double* h = &hot[i * (2 * D + 2)];
       for (int a = 0; a < D; ++a) hot_[i].x[a] = h[a];
@@ -230,7 +231,8 @@ class EventDrivenGas {
       hot_[i].t = h[2 * D];
       hot_[i].r = h[2 * D + 1];
       plan_[i] = Plan{plan[4 * i], static_cast<std::uint32_t>(plan[4 * i + 1]),
-                      static_cast<std::uint32_t>(plan[4 * i + 2]), static_cast<EventKind>(plan[4 * i + 3])};
+                      static_cast<std::uint32_t>(plan[4 * i + 2])};
+      event_kind_[i] = static_cast<EventKind>(plan[4 * i + 3]);
       grid_.insert(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(cell[i]));
     }
     const auto& s = in.at("scalars");
@@ -250,7 +252,7 @@ class EventDrivenGas {
 
   // Memory the engine and the components it uses hold per particle.
   std::size_t bytes_per_particle() const {
-    return world_.component_bytes_per_entity() + sizeof(HotState) + sizeof(Plan) +
+    return world_.component_bytes_per_entity() + sizeof(HotState) + sizeof(Plan) + sizeof(EventKind) +
            grid_.bytes_per_particle() + calendar_.bytes_per_particle();
   }
 
@@ -275,7 +277,8 @@ class EventDrivenGas {
       hot_[i].t = now;
       grid_.insert(i, grid_.locate(hot_[i].x));
     }
-    plan_.assign(count, Plan{never, 0, 0, EventKind::none});
+    plan_.assign(count, Plan{never, 0, 0});
+    event_kind_.assign(count, EventKind::none);
     now_ = now;
     std::vector<double> first_events(count);
     for (std::uint32_t i = 0; i < count; ++i) first_events[i] = predict(i);
@@ -444,14 +447,14 @@ class EventDrivenGas {
       best = best_collision;
       kind = best < never ? EventKind::collision : EventKind::none;
     }
-    plan_[i].kind = kind;
+    event_kind_[i] = kind;
     return best;
   }
 
   void repredict(std::uint32_t i, int entered_face = -1) { calendar_.schedule(i, predict(i, entered_face)); }
 
   void process(std::uint32_t i) {
-    const EventKind kind = plan_[i].kind;
+    const EventKind kind = event_kind_[i];
     if (kind == EventKind::collision) {
       const std::uint32_t j = plan_[i].partner;
       advance_particle(i);
@@ -542,16 +545,16 @@ class EventDrivenGas {
   double* last_collision_ = nullptr;
   std::uint32_t* id_ = nullptr;
 
-  // What a particle has scheduled, in one record: its earliest collision
-  // (possibly later than its event), that partner and the partner's
-  // collision count at prediction, and the kind of its event.
+  // A particle's earliest collision (possibly later than its event), that
+  // partner and the partner's collision count at prediction, in 16 bytes;
+  // the kind of its scheduled event is kept apart to stay in that size.
   struct Plan {
     double collision_time;
     std::uint32_t partner;
     std::uint32_t partner_count;
-    EventKind kind;
   };
   std::vector<Plan> plan_;
+  std::vector<EventKind> event_kind_;
   struct Candidate {
     std::uint32_t particle;
     std::uint8_t shift;
