@@ -107,8 +107,14 @@ std::string KeySpec::allowed() const {
     case ValueType::string: return "a string";
     default: break;
   }
-  return fmt::format("{} in {}{}, {}]", type == ValueType::integer ? "an integer" : "a number",
-                     min_exclusive ? "(" : "[", format_real(min), format_real(max));
+  const auto bound = [&](double v) {
+    if (type == ValueType::integer && std::abs(v) >= 9.2e18) return std::string(v > 0 ? "2^63-1" : "-2^63");
+    return format_real(v);
+  };
+  const bool open_above = std::isinf(max) && !allow_infinite;
+  return fmt::format("{} in {}{}, {}{}{}", type == ValueType::integer ? "an integer" : "a number",
+                     min_exclusive ? "(" : "[", bound(min), bound(max), open_above ? ")" : "]",
+                     allow_infinite ? " (inf: no limit)" : "");
 }
 
 ConfigSchema& ConfigSchema::add(KeySpec spec) {
@@ -125,6 +131,13 @@ ConfigSchema& ConfigSchema::integer(const std::string& key, std::int64_t def, st
 ConfigSchema& ConfigSchema::real(const std::string& key, double def, double min, double max, const std::string& help,
                                  bool min_exclusive) {
   return add({key, ValueType::real, def, min, max, min_exclusive, {}, help});
+}
+
+ConfigSchema& ConfigSchema::real_or_infinite(const std::string& key, double def, double min,
+                                             const std::string& help, bool min_exclusive) {
+  KeySpec spec{key, ValueType::real, def, min, std::numeric_limits<double>::infinity(), min_exclusive, {}, help};
+  spec.allow_infinite = true;
+  return add(std::move(spec));
 }
 
 ConfigSchema& ConfigSchema::boolean(const std::string& key, bool def, const std::string& help) {
@@ -228,8 +241,7 @@ void Config::check(const KeySpec& s, const ConfigValue& value) const {
       if (!std::holds_alternative<double>(value))
         throw ConfigError(fmt::format("configuration key '{}' must be a number", s.key));
       const double v = std::get<double>(value);
-      if (!std::isfinite(v) && !(std::isinf(v) && std::isinf(s.max) && v > 0))
-        throw out_of_range(format_real(v));
+      if (!std::isfinite(v) && !(s.allow_infinite && v > 0)) throw out_of_range(format_real(v));
       if (v > s.max || v < s.min || (s.min_exclusive && v == s.min)) throw out_of_range(format_real(v));
       break;
     }

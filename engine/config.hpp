@@ -32,6 +32,7 @@ struct KeySpec {
   bool min_exclusive = false;
   std::vector<std::string> choices;
   std::string help;
+  bool allow_infinite = false;  // +inf accepted, meaning "no limit"
 
   std::string allowed() const;  // human-readable range or choice list
 };
@@ -43,6 +44,9 @@ class ConfigSchema {
   // Real in [min, max], or (min, max] when min_exclusive.
   ConfigSchema& real(const std::string& key, double def, double min, double max, const std::string& help,
                      bool min_exclusive = false);
+  // Real in [min, inf], where inf means "no limit" (a stop criterion that never triggers).
+  ConfigSchema& real_or_infinite(const std::string& key, double def, double min, const std::string& help,
+                                 bool min_exclusive = false);
   ConfigSchema& boolean(const std::string& key, bool def, const std::string& help);
   ConfigSchema& choice(const std::string& key, const std::string& def, std::vector<std::string> choices,
                        const std::string& help);

@@ -42,7 +42,7 @@ const ConfigSchema& haff_cooling_schema() {
         .integer("output.points_per_decade", 20, 1, 1000, "outputs per decade of time (log spacing)")
         .choice("output.positions", "final", {"none", "final", "all"},
                 "particle positions and velocities: not at all, at the end, or at every output time")
-        .real("output.checkpoint_interval", 600.0, 0.0, std::numeric_limits<double>::infinity(),
+        .real_or_infinite("output.checkpoint_interval", 600.0, 0.0,
               "wall-clock seconds between checkpoints (written at output times to OUTPUT.checkpoint; 0: at "
               "every output, inf: never); resume with --resume");
     return s;
@@ -70,6 +70,11 @@ int run(const Config& config, const RunOptions& options) {
   const std::string output_path = options.output_path.empty() ? "haff.h5" : options.output_path;
   spdlog::info("haff_cooling: {}D, N = {}, seed = {}", D, count, config.integer("run.seed"));
 
+  const double t_stop = config.real("run.t_stop");
+  const auto times = config.text("output.spacing") == "log"
+                         ? log_output_times(t_stop, config.real("output.first"),
+                                            static_cast<int>(config.integer("output.points_per_decade")))
+                         : linear_output_times(t_stop, config.real("output.interval"));
   const std::string checkpoint_path = output_path + ".checkpoint";
   const std::vector<std::string> observables{"kinetic_energy", "temperature", "collisions_per_particle"};
   const std::vector<std::string> derived_names{"packing_fraction", "initial_temperature", "initial_kinetic_energy",
@@ -145,11 +150,6 @@ int run(const Config& config, const RunOptions& options) {
     for (const auto& [name, samples] : resumed->observables)
       for (const auto& sample : samples) writer.append(name, sample);
 
-  const double t_stop = config.real("run.t_stop");
-  const auto times = config.text("output.spacing") == "log"
-                         ? log_output_times(t_stop, config.real("output.first"),
-                                            static_cast<int>(config.integer("output.points_per_decade")))
-                         : linear_output_times(t_stop, config.real("output.interval"));
   const bool all_frames = config.text("output.positions") == "all";
   if (resumed && all_frames)
     spdlog::warn("output.positions = \"all\": frames written before the checkpoint are not carried over");

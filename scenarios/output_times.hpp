@@ -3,12 +3,22 @@
 // (which is always included).
 
 #include <cmath>
-#include <stdexcept>
 #include <vector>
+
+#include <fmt/format.h>
+
+#include "engine/config.hpp"
 
 namespace granflow {
 
+// More output times than this is a configuration mistake, not a request.
+inline constexpr double max_output_times = 1e7;
+
 inline std::vector<double> linear_output_times(double t_stop, double interval) {
+  if (t_stop / interval > max_output_times)
+    throw ConfigError(fmt::format("output.interval = {} with run.t_stop = {} asks for {:.3g} output times (at most "
+                                  "{:g}); increase output.interval",
+                                  interval, t_stop, t_stop / interval, max_output_times));
   std::vector<double> times{0.0};
   for (std::size_t k = 1;; ++k) {
     const double t = static_cast<double>(k) * interval;
@@ -20,6 +30,11 @@ inline std::vector<double> linear_output_times(double t_stop, double interval) {
 }
 
 inline std::vector<double> log_output_times(double t_stop, double first, int points_per_decade) {
+  const double count = std::max(0.0, std::log10(t_stop / first)) * points_per_decade;
+  if (count > max_output_times)
+    throw ConfigError(fmt::format("output.first = {} and output.points_per_decade = {} up to run.t_stop = {} ask "
+                                  "for {:.3g} output times (at most {:g})",
+                                  first, points_per_decade, t_stop, count, max_output_times));
   std::vector<double> times{0.0};
   for (std::size_t k = 0;; ++k) {
     const double t = first * std::pow(10.0, static_cast<double>(k) / points_per_decade);

@@ -47,8 +47,8 @@ inline void declare_gas_keys(ConfigSchema& schema, const GasDefaults& d) {
               "fixed_speed: |v| = initial.speed in random directions (seed 000 eq. 3.3); maxwell_boltzmann: at "
               "initial.temperature; equilibrated: fixed_speed run elastically for "
               "initial.equilibration_collisions collisions per particle")
-      .real("initial.speed", std::numbers::sqrt2, 0.0, inf, "initial speed v0 (fixed_speed, equilibrated)")
-      .real("initial.temperature", 2.0 / 3.0, 0.0, inf, "initial temperature (maxwell_boltzmann)")
+      .real("initial.speed", std::numbers::sqrt2, 0.0, inf, "initial speed v0 (fixed_speed, equilibrated)", true)
+      .real("initial.temperature", 2.0 / 3.0, 0.0, inf, "initial temperature (maxwell_boltzmann)", true)
       .real("initial.equilibration_collisions", 20.0, 0.0, 1e6,
             "collisions per particle of the elastic run that prepares an equilibrated state")
       .boolean("initial.remove_mean_velocity", true,
@@ -57,11 +57,11 @@ inline void declare_gas_keys(ConfigSchema& schema, const GasDefaults& d) {
       .real("collision.wall_restitution", 1.0, 0.0, 1.0, "restitution of reflecting walls (seed 002 eqs. 3-4)")
       .real("collision.contact_time", 0.0, 0.0, inf,
             "TC model: collisions within this time of a particle's previous collision are elastic")
-      .real("collision.collapse_rate_factor", 1000.0, 10.0, inf,
-            "collision-rate increase (at equal thermal speed) that is reported as inelastic collapse")
+      .real_or_infinite("collision.collapse_rate_factor", 1000.0, 10.0,
+                        "collision-rate increase (at equal thermal speed) that is reported as inelastic collapse")
       .real("run.t_stop", d.t_stop, 0.0, inf, "stop time", true)
       .integer("run.seed", 1, 0, std::numeric_limits<std::int64_t>::max(), "seed of every random stream")
-      .real("run.max_collisions_per_particle", inf, 0.0, inf, "stop after this many collisions per particle")
+      .real_or_infinite("run.max_collisions_per_particle", inf, 0.0, "stop after this many collisions per particle")
       .real("run.min_energy_fraction", 0.0, 0.0, 1.0, "stop when the kinetic energy falls below this fraction");
 }
 

@@ -41,6 +41,10 @@ printf 'scenario = "haff_cooling"\n[system\ncount = 3\n' > "$work/broken.toml"
 expect_error "cannot parse" run "$work/broken.toml"
 printf 'scenario = "haff_cooling"\n[system]\ncount = 1.5\n' > "$work/float.toml"
 expect_error "'system.count' must be an integer, got 1.5" run "$work/float.toml"
+expect_error "asks for 1e+15 output times" \
+  run "$scenario" --set output.spacing=linear --set output.interval=1e-13 -o "$work/x.h5"
+expect_error "'system.radius' = inf is out of range: allowed is a number in (0, inf)" \
+  run "$scenario" --set system.radius=inf -o "$work/x.h5"
 expect_error "--set expects section.key=value" run "$scenario" --set oops -o "$work/x.h5"
 expect_error "" run "$scenario" --threads 0
 if [[ -e "$work/x.h5" ]]; then echo "FAIL: a failed run left $work/x.h5"; failures=$((failures + 1)); fi
