@@ -76,6 +76,9 @@ int run(const Config& config, const RunOptions& options) {
                                             static_cast<int>(config.integer("output.points_per_decade")))
                          : linear_output_times(t_stop, config.real("output.interval"));
   const std::string checkpoint_path = output_path + ".checkpoint";
+  // Open the output first, so an unwritable path fails before any work is done.
+  H5mdFile file(output_path, "haff_cooling");
+  file.write_parameters(config);
   const std::vector<std::string> observables{"kinetic_energy", "temperature", "collisions_per_particle"};
   const std::vector<std::string> derived_names{"packing_fraction", "initial_temperature", "initial_kinetic_energy",
                                                "enskog_collision_frequency", "haff_tau0"};
@@ -127,8 +130,6 @@ int run(const Config& config, const RunOptions& options) {
   auto& store = world.emplace_resource<ObservableStore>();
   for (const auto& name : observables) store.declare(name);
 
-  H5mdFile file(output_path, "haff_cooling");
-  file.write_parameters(config);
   file.write_box(box.edges(), box.h5md_boundary());
   for (const auto& [name, value] : derived) file.write_attribute("/parameters/derived", name, value);
   file.write_attribute("/parameters/derived", "bytes_per_particle", static_cast<double>(gas.bytes_per_particle()));
