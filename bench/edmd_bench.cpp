@@ -17,6 +17,7 @@
 #include "scenarios/haff_cooling.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 #include "systems/edmd/gas_setup.hpp"
+#include "systems/edmd/kinetic_theory.hpp"
 
 namespace {
 
@@ -25,7 +26,7 @@ using namespace granflow;
 Config gas_config(std::int64_t count, double eta, double restitution) {
   Config config(scenarios::haff_cooling_schema());
   config.set("system.count", count);
-  config.set("system.radius", std::cbrt(eta * 3.0 / (4.0 * std::numbers::pi * static_cast<double>(count))));
+  config.set("system.radius", theory::radius_for_packing_fraction<3>(static_cast<double>(count), eta, 1.0));
   config.set("initial.velocity", std::string("maxwell_boltzmann"));
   config.set("initial.temperature", 1.0);
   config.set("collision.restitution", restitution);

@@ -15,6 +15,13 @@ double packing_fraction(double count, double radius, double volume) {
   return count * one / volume;
 }
 
+// Radius at which N equal spheres/disks fill `eta` of the volume (area).
+template <int D>
+double radius_for_packing_fraction(double count, double eta, double volume) {
+  const double per_particle = eta * volume / count;
+  return D == 3 ? std::cbrt(per_particle * 3.0 / (4.0 * std::numbers::pi)) : std::sqrt(per_particle / std::numbers::pi);
+}
+
 // Pair correlation at contact: Carnahan-Starling (3D), Henderson (2D).
 template <int D>
 double contact_value(double eta) {

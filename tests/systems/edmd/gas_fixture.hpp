@@ -19,10 +19,7 @@ namespace granflow::edmd::testing {
 
 template <int D>
 double radius_for_packing_fraction(std::size_t count, double eta, double box_length = 1.0) {
-  const double volume = std::pow(box_length, D);
-  const double per_particle = eta * volume / static_cast<double>(count);
-  return D == 3 ? std::cbrt(per_particle * 3.0 / (4.0 * std::numbers::pi))
-                : std::sqrt(per_particle / std::numbers::pi);
+  return theory::radius_for_packing_fraction<D>(static_cast<double>(count), eta, std::pow(box_length, D));
 }
 
 template <int D>

@@ -44,7 +44,7 @@ std::vector<std::vector<double>> cooling_curves(const HaffCase& c, const std::ve
     Config config(scenarios::haff_cooling_schema());
     config.set("system.count", c.particles);
     // radius for the seed's packing fraction 0.0654 at this N
-    config.set("system.radius", std::cbrt(0.0654 * 3.0 / (4.0 * std::numbers::pi * static_cast<double>(c.particles))));
+    config.set("system.radius", theory::radius_for_packing_fraction<3>(static_cast<double>(c.particles), 0.0654, 1.0));
     config.set("collision.restitution", c.restitution);
     config.set("run.seed", std::int64_t{100 + run});
     World world;
