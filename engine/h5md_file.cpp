@@ -263,7 +263,6 @@ void H5mdFile::write_attribute(const std::string& path, const std::string& name,
   write_numeric_attribute<double>(group(path), name, H5T_NATIVE_DOUBLE, {value});
 }
 
-void H5mdFile::flush() { h5_check(H5Fflush(file_, H5F_SCOPE_GLOBAL), "flush " + partial_path_); }
 
 void H5mdFile::finish() {
   if (finished_) return;

@@ -42,7 +42,6 @@ class H5mdFile {
   void write_array(const std::string& group_path, const std::string& name, const std::vector<double>& values);
   void write_attribute(const std::string& group, const std::string& name, const std::string& value);
   void write_attribute(const std::string& group, const std::string& name, double value);
-  void flush();
   // Closes the file and moves it to its final name.
   void finish();
 

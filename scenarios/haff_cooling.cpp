@@ -161,7 +161,6 @@ int run(const Config& config, const RunOptions& options) {
     control.target_time = times[k];
     schedule.run(world);
     if (all_frames) append_particle_frame<D>(file, world, world.resource<Clock>().step, gas.time());
-    file.flush();
     progress.update(progress_fraction(gas.time(), t_stop, gas.statistics().pair_collisions, limits,
                                       gas.kinetic_energy(), energy0),
                     static_cast<double>(gas.statistics().pair_collisions));
