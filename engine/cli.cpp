@@ -13,6 +13,8 @@
 #include "engine/h5_handle.hpp"
 #include "engine/h5md_reader.hpp"
 #include "engine/scenario_registry.hpp"
+#include "engine/sweep_plan.hpp"
+#include "engine/sweep_runner.hpp"
 #include "systems/initial/random_placement.hpp"
 
 namespace granflow {
@@ -97,6 +99,16 @@ int command_line_main(int argc, char** argv) {
   run->add_flag("--resume", options.resume,
                 "continue an interrupted run from OUTPUT.checkpoint (same configuration and --set options)");
 
+  std::string sweep_file;
+  std::string sweep_output;
+  SweepOptions sweep_options;
+  auto* sweep = app.add_subcommand("sweep", "run a parameter sweep or ensemble from a sweep file on all cores");
+  sweep->add_option("file", sweep_file, "sweep description (.toml, see docs/sweeps.md)")->required();
+  sweep->add_option("-j,--jobs", sweep_options.workers, "runs at a time (default: all cores)")
+      ->check(CLI::Range(1, 4096));
+  sweep->add_option("-o,--output", sweep_output, "result directory (default: the file's `output`)");
+  sweep->add_flag("-q,--quiet", quiet, "no progress or info messages");
+
   auto* list = app.add_subcommand("list", "list scenarios and systems");
   std::string info_path;
   auto* info = app.add_subcommand("info", "describe a result file");
@@ -117,6 +129,11 @@ int command_line_main(int argc, char** argv) {
       if (quiet) spdlog::set_level(spdlog::level::warn);
       options.progress = !quiet;
       return run_command(file, overrides, options);
+    }
+    if (*sweep) {
+      if (quiet) spdlog::set_level(spdlog::level::warn);
+      sweep_options.progress = !quiet;
+      return run_sweep(read_sweep_plan(sweep_file, sweep_output), sweep_options);
     }
     if (*list) list_command();
     if (*info) info_command(info_path);

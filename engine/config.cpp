@@ -9,6 +9,8 @@
 #include <sstream>
 #include <toml++/toml.h>
 
+#include "engine/toml_leaves.hpp"
+
 namespace granflow {
 
 namespace {
@@ -87,17 +89,6 @@ ConfigValue from_text(const KeySpec& spec, std::string text) {
   throw fail();
 }
 
-void collect_leaves(const toml::table& table, const std::string& prefix,
-                    std::vector<std::pair<std::string, const toml::node*>>& leaves) {
-  for (const auto& [name, node] : table) {
-    const std::string key = prefix.empty() ? std::string(name.str()) : prefix + "." + std::string(name.str());
-    if (const auto* sub = node.as_table())
-      collect_leaves(*sub, key, leaves);
-    else
-      leaves.emplace_back(key, &node);
-  }
-}
-
 }  // namespace
 
 std::string KeySpec::allowed() const {
@@ -174,7 +165,7 @@ Config Config::from_toml_text(const ConfigSchema& schema, const std::string& tex
     throw ConfigError(fmt::format("cannot parse {}: {}", origin, what.str()));
   }
   std::vector<std::pair<std::string, const toml::node*>> leaves;
-  collect_leaves(table, "", leaves);
+  collect_toml_leaves(table, "", leaves);
   for (const auto& [key, node] : leaves) {
     const KeySpec* spec = schema.find(key);
     if (!spec) {

@@ -255,6 +255,11 @@ void H5mdFile::write_array(const std::string& group_path, const std::string& nam
   write_dataset(group(group_path), name, H5T_NATIVE_DOUBLE, values.data(), {values.size()});
 }
 
+void H5mdFile::write_text_array(const std::string& group_path, const std::string& name,
+                                const std::vector<std::string>& values) {
+  write_string_dataset(group(group_path), name, values, false);
+}
+
 void H5mdFile::write_attribute(const std::string& path, const std::string& name, const std::string& value) {
   write_string_attribute(group(path), name, value);
 }

@@ -40,6 +40,7 @@ class H5mdFile {
   void write_profile(const std::vector<ProfileEntry>& entries);
   // A plain 1D dataset at group_path/name (for checkpoint state).
   void write_array(const std::string& group_path, const std::string& name, const std::vector<double>& values);
+  void write_text_array(const std::string& group_path, const std::string& name, const std::vector<std::string>& values);
   void write_attribute(const std::string& group, const std::string& name, const std::string& value);
   void write_attribute(const std::string& group, const std::string& name, double value);
   // Closes the file and moves it to its final name.

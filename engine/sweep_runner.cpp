@@ -1,0 +1,250 @@
+#include "engine/sweep_runner.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <atomic>
+#include <cmath>
+#include <fstream>
+#include <mutex>
+#include <optional>
+
+#include "engine/h5_handle.hpp"
+#include "engine/h5md_file.hpp"
+#include "engine/h5md_reader.hpp"
+#include "engine/progress.hpp"
+#include "engine/scenario_registry.hpp"
+
+namespace granflow {
+
+namespace {
+
+// A result file counts as finished when it exists (files are renamed into
+// place only when complete) and was written with this run's configuration.
+bool finished(const SweepRun& run) {
+  if (!std::filesystem::exists(run.output)) return false;
+  std::string stored;
+  try {
+    stored = H5mdReader(run.output.string()).string_dataset("/parameters/toml");
+  } catch (const H5Error&) {
+    throw ConfigError(fmt::format("{} exists but is not a readable result file; delete it to rerun that point",
+                                  run.output.string()));
+  }
+  if (stored != run.config.to_toml())
+    throw ConfigError(fmt::format("{} was written with a different configuration than this sweep asks for; delete "
+                                  "it or choose another output directory",
+                                  run.output.string()));
+  return true;
+}
+
+// Last value of a scalar observable, or the attribute of that name on /observables.
+double summary_value(const H5mdReader& reader, const std::string& name) {
+  const std::string dataset = "/observables/" + name + "/value";
+  if (reader.exists(dataset)) {
+    const auto array = reader.doubles(dataset);
+    if (array.values.empty()) return std::nan("");
+    const std::size_t per_row = array.shape.size() <= 1 ? 1 : array.values.size() / array.shape.front();
+    if (per_row != 1)
+      throw ConfigError(fmt::format("summary observable '{}' is not a scalar ({} values per time)", name, per_row));
+    return array.values.back();
+  }
+  try {
+    return reader.double_attribute("/observables", name);
+  } catch (const H5Error&) {
+    throw ConfigError(fmt::format("summary observable '{}' is neither /observables/{}/value nor an attribute of "
+                                  "/observables in {}",
+                                  name, name, reader.exists("/h5md") ? "the result file" : "?"));
+  }
+}
+
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+std::string number_text(double value) { return std::isfinite(value) ? fmt::format("{:.17g}", value) : "nan"; }
+
+struct Column {
+  std::string name;
+  std::vector<std::string> texts;  // text columns
+  std::vector<double> numbers;     // numeric columns
+};
+
+void write_csv(const std::filesystem::path& path, const std::vector<Column>& columns) {
+  const auto partial = path.string() + ".partial";
+  {
+    std::ofstream out(partial);
+    if (!out) throw std::runtime_error("cannot write " + partial);
+    for (std::size_t c = 0; c < columns.size(); ++c) out << (c ? "," : "") << csv_field(columns[c].name);
+    out << '\n';
+    const std::size_t rows = columns.empty() ? 0
+                             : columns.front().texts.empty() ? columns.front().numbers.size()
+                                                             : columns.front().texts.size();
+    for (std::size_t r = 0; r < rows; ++r) {
+      for (std::size_t c = 0; c < columns.size(); ++c)
+        out << (c ? "," : "")
+            << (columns[c].texts.empty() ? number_text(columns[c].numbers[r]) : csv_field(columns[c].texts[r]));
+      out << '\n';
+    }
+    if (!out.flush()) throw std::runtime_error("cannot write " + partial);
+  }
+  std::filesystem::rename(partial, path);
+}
+
+void write_h5_group(H5mdFile& file, const std::string& group, const std::vector<Column>& columns) {
+  for (const auto& column : columns) {
+    if (column.texts.empty())
+      file.write_array(group, column.name, column.numbers);
+    else
+      file.write_text_array(group, column.name, column.texts);
+  }
+}
+
+void write_summary(const SweepPlan& plan, const std::vector<std::vector<double>>& values,
+                   const std::vector<std::string>& status, const std::vector<std::string>& stop_reason) {
+  const std::size_t points = plan.parameter_values.size();
+  // Per run.
+  std::vector<Column> runs{{"point", {}, {}}, {"repeat", {}, {}}, {"seed", {}, {}}, {"file", {}, {}},
+                           {"status", {}, {}}, {"stop_reason", {}, {}}};
+  constexpr std::size_t fixed_columns = 6;
+  for (const auto& key : plan.swept_keys) runs.push_back({key, {}, {}});
+  for (const auto& name : plan.summary) runs.push_back({name, {}, {}});
+  for (std::size_t k = 0; k < plan.runs.size(); ++k) {
+    const auto& run = plan.runs[k];
+    runs[0].numbers.push_back(static_cast<double>(run.parameter_point));
+    runs[1].numbers.push_back(static_cast<double>(run.repeat));
+    runs[2].texts.push_back(std::to_string(run.seed));
+    runs[3].texts.push_back(run.output.filename().string());
+    runs[4].texts.push_back(status[k]);
+    runs[5].texts.push_back(stop_reason[k]);
+    for (std::size_t s = 0; s < plan.swept_keys.size(); ++s)
+      runs[fixed_columns + s].texts.push_back(plan.parameter_values[run.parameter_point][s]);
+    for (std::size_t o = 0; o < plan.summary.size(); ++o)
+      runs[fixed_columns + plan.swept_keys.size() + o].numbers.push_back(values[k][o]);
+  }
+  // Per parameter point: mean and standard error of the mean over repeats.
+  std::vector<Column> summary{{"point", {}, {}}, {"runs", {}, {}}};
+  for (const auto& key : plan.swept_keys) summary.push_back({key, {}, {}});
+  for (const auto& name : plan.summary) {
+    summary.push_back({name + "_mean", {}, {}});
+    summary.push_back({name + "_stderr", {}, {}});
+  }
+  for (std::size_t p = 0; p < points; ++p) {
+    summary[0].numbers.push_back(static_cast<double>(p));
+    std::size_t counted = 0;
+    for (std::size_t k = 0; k < plan.runs.size(); ++k)
+      if (plan.runs[k].parameter_point == p && status[k] != "failed") ++counted;
+    summary[1].numbers.push_back(static_cast<double>(counted));
+    for (std::size_t s = 0; s < plan.swept_keys.size(); ++s) summary[2 + s].texts.push_back(plan.parameter_values[p][s]);
+    for (std::size_t o = 0; o < plan.summary.size(); ++o) {
+      double sum = 0.0, squares = 0.0;
+      std::size_t n = 0;
+      for (std::size_t k = 0; k < plan.runs.size(); ++k)
+        if (plan.runs[k].parameter_point == p && std::isfinite(values[k][o])) {
+          sum += values[k][o];
+          ++n;
+        }
+      const double mean = n ? sum / static_cast<double>(n) : std::nan("");
+      for (std::size_t k = 0; k < plan.runs.size(); ++k)
+        if (plan.runs[k].parameter_point == p && std::isfinite(values[k][o]))
+          squares += (values[k][o] - mean) * (values[k][o] - mean);
+      const double stderr_of_mean =
+          n >= 2 ? std::sqrt(squares / static_cast<double>(n - 1) / static_cast<double>(n)) : std::nan("");
+      summary[2 + plan.swept_keys.size() + 2 * o].numbers.push_back(mean);
+      summary[3 + plan.swept_keys.size() + 2 * o].numbers.push_back(stderr_of_mean);
+    }
+  }
+  write_csv(plan.directory / "summary.csv", summary);
+  write_csv(plan.directory / "summary_runs.csv", runs);
+  H5mdFile file((plan.directory / "summary.h5").string(), "sweep");
+  file.write_attribute("/parameters", "scenario", plan.scenario);
+  file.write_attribute("/parameters", "scenario_file", plan.scenario_file.string());
+  file.write_attribute("/parameters", "repeats", static_cast<double>(plan.repeats));
+  file.write_text_array("/parameters", "swept_keys", plan.swept_keys);
+  write_h5_group(file, "/summary", summary);
+  write_h5_group(file, "/runs", runs);
+  file.finish();
+}
+
+}  // namespace
+
+int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
+  const ScenarioInfo* scenario = find_scenario(plan.scenario);
+  if (!scenario) throw ConfigError(fmt::format("unknown scenario '{}'", plan.scenario));
+  std::filesystem::create_directories(plan.directory);
+
+  std::vector<std::string> status(plan.runs.size(), "pending");
+  std::vector<std::size_t> todo;
+  for (std::size_t k = 0; k < plan.runs.size(); ++k) {
+    if (finished(plan.runs[k]))
+      status[k] = "done";
+    else
+      todo.push_back(k);
+  }
+  const int workers = options.workers > 0 ? options.workers : tbb::this_task_arena::max_concurrency();
+  spdlog::info("sweep of {}: {} parameter points x {} repeats = {} runs, {} already done, {} workers, results in {}",
+               plan.scenario, plan.parameter_values.size(), plan.repeats, plan.runs.size(),
+               plan.runs.size() - todo.size(), workers, plan.directory.string());
+
+  // Points log only warnings; the sweep reports its own progress.
+  const auto level = spdlog::get_level();
+  spdlog::set_level(spdlog::level::warn);
+  std::mutex report;
+  std::atomic<std::size_t> done{0};
+  Progress progress("sweep", "runs/s", options.progress);
+  tbb::task_arena arena(workers);
+  arena.execute([&] {
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, todo.size(), 1),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          for (std::size_t t = range.begin(); t != range.end(); ++t) {
+            const std::size_t k = todo[t];
+            RunOptions run_options;
+            run_options.output_path = plan.runs[k].output.string();
+            run_options.progress = false;
+            std::string outcome;
+            try {
+              const int code = scenario->run(plan.runs[k].config, run_options);
+              outcome = code == 0 ? "done" : fmt::format("stopped (exit {})", code);
+            } catch (const std::exception& error) {
+              outcome = "failed";
+              std::lock_guard lock(report);
+              spdlog::error("{}: {}", plan.runs[k].output.string(), error.what());
+            }
+            std::lock_guard lock(report);
+            status[k] = outcome;
+            const std::size_t finished_runs = ++done;
+            progress.update(static_cast<double>(finished_runs) / static_cast<double>(todo.size()),
+                            static_cast<double>(finished_runs));
+          }
+        },
+        tbb::simple_partitioner());
+  });
+  progress.finish();
+  spdlog::set_level(level);
+
+  std::vector<std::vector<double>> values(plan.runs.size(),
+                                          std::vector<double>(plan.summary.size(), std::nan("")));
+  std::vector<std::string> stop_reason(plan.runs.size());
+  for (std::size_t k = 0; k < plan.runs.size(); ++k) {
+    if (status[k] == "failed" || !std::filesystem::exists(plan.runs[k].output)) continue;
+    const H5mdReader reader(plan.runs[k].output.string());
+    try {
+      stop_reason[k] = reader.string_attribute("/observables", "stop_reason");
+    } catch (const H5Error&) {
+    }
+    for (std::size_t o = 0; o < plan.summary.size(); ++o) values[k][o] = summary_value(reader, plan.summary[o]);
+  }
+  write_summary(plan, values, status, stop_reason);
+  const auto failures = static_cast<std::size_t>(
+      std::count_if(status.begin(), status.end(), [](const auto& s) { return s != "done"; }));
+  spdlog::info("sweep finished: {} runs, {} newly run, {} not finished normally; summary in {}", plan.runs.size(),
+               todo.size(), failures, (plan.directory / "summary.csv").string());
+  return failures ? 3 : 0;
+}
+
+}  // namespace granflow
