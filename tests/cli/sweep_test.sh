@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# granflow sweep: the same sweep with 1 and 2 workers gives identical
+# summaries; a sweep killed with SIGKILL and run again finishes the missing
+# points and gives the same summary as an uninterrupted one; bad sweep files
+# exit with status 2 and a message naming the problem.
+set -u
+granflow="$1"
+scenario="$2"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+# 4 restitutions x 2 repeats of a small cooling gas, ~0.5 s per run.
+cat > "$work/sweep.toml" <<TOML
+scenario_file = "$scenario"
+output = "unused"
+repeats = 2
+summary = ["temperature", "collisions_per_particle", "pair_collisions"]
+[set]
+"system.count" = 2000
+"run.t_stop" = 30.0
+"output.positions" = "none"
+[grid]
+collision.restitution = [1.0, 0.9, 0.8, 0.6]
+TOML
+
+"$granflow" sweep "$work/sweep.toml" -j 1 -o "$work/one" -q || fail "sweep with 1 worker exited with $?"
+"$granflow" sweep "$work/sweep.toml" -j 2 -o "$work/two" -q || fail "sweep with 2 workers exited with $?"
+for table in summary.csv summary_runs.csv; do
+  if cmp -s "$work/one/$table" "$work/two/$table"; then echo "ok: $table identical for 1 and 2 workers"
+  else fail "$table differs between 1 and 2 workers"; diff "$work/one/$table" "$work/two/$table"; fi
+done
+rows=$(($(wc -l < "$work/one/summary.csv") - 1))
+[[ $rows -eq 4 ]] && echo "ok: 4 parameter points" || fail "summary has $rows points, expected 4"
+runs=$(($(wc -l < "$work/one/summary_runs.csv") - 1))
+[[ $runs -eq 8 ]] && echo "ok: 8 runs" || fail "summary_runs has $runs runs, expected 8"
+grep -q '^point,runs,collision.restitution,temperature_mean,temperature_stderr' "$work/one/summary.csv" \
+  && echo "ok: summary header" || fail "summary header: $(head -1 "$work/one/summary.csv")"
+
+# Kill once at least two runs are complete, then resume.
+"$granflow" sweep "$work/sweep.toml" -j 2 -o "$work/killed" -q &
+pid=$!
+for _ in $(seq 1 600); do
+  done_runs=$(ls "$work/killed"/p*_r*.h5 2>/dev/null | wc -l)
+  [[ $done_runs -ge 2 ]] && break
+  sleep 0.02
+done
+kill -9 "$pid" 2>/dev/null; wait "$pid" 2>/dev/null
+left=$(ls "$work/killed"/p*_r*.h5 2>/dev/null | wc -l)
+echo "killed with $left of 8 runs complete"
+[[ $left -lt 8 ]] || fail "the sweep finished before it could be killed; the resume path was not exercised"
+"$granflow" sweep "$work/sweep.toml" -j 2 -o "$work/killed" -q || fail "resumed sweep exited with $?"
+if cmp -s "$work/one/summary.csv" "$work/killed/summary.csv"; then echo "ok: resumed summary identical"
+else fail "resumed summary differs"; diff "$work/one/summary.csv" "$work/killed/summary.csv"; fi
+ls "$work/killed"/*.partial >/dev/null 2>&1 && fail "partial files left after the resumed sweep"
+
+expect_error() {  # expect_error "needle" sweep-file-text
+  local needle="$1" text="$2" output status
+  printf '%s\n' "$text" > "$work/bad.toml"
+  output=$("$granflow" sweep "$work/bad.toml" -o "$work/bad" -q 2>&1); status=$?
+  if [[ $status -ne 2 ]]; then fail "sweep exited with $status, expected 2: $text"; echo "$output"
+  elif [[ "$output" != *"$needle"* ]]; then fail "message lacks '$needle': $output"
+  else echo "ok: $needle"; fi
+}
+expect_error "unknown key 'repeat'" "scenario_file = \"$scenario\"
+repeat = 3"
+expect_error "needs scenario_file" "repeats = 3"
+expect_error "'collision.restitution' = 1.5 is out of range" "scenario_file = \"$scenario\"
+[grid]
+collision.restitution = [0.5, 1.5]"
+expect_error "unknown configuration key 'collision.restitutoin'" "scenario_file = \"$scenario\"
+[grid]
+collision.restitutoin = [0.5]"
+expect_error "[zip] lists must have equal lengths" "scenario_file = \"$scenario\"
+[zip]
+collision.restitution = [0.5, 0.6]
+system.count = [100]"
+expect_error "repeats = 0 is out of range" "scenario_file = \"$scenario\"
+repeats = 0"
+expect_error "must be a non-empty array" "scenario_file = \"$scenario\"
+[grid]
+collision.restitution = 0.5"
+# A result directory written with other settings is not silently mixed in.
+sed -i 's/"run.t_stop" = 30.0/"run.t_stop" = 20.0/' "$work/sweep.toml"
+output=$("$granflow" sweep "$work/sweep.toml" -o "$work/one" -q 2>&1); status=$?
+[[ $status -eq 2 && "$output" == *"different configuration"* ]] && echo "ok: stale result directory refused" \
+  || fail "stale result directory: exit $status: $output"
+
+[[ $failures -eq 0 ]] && echo "all sweep checks passed" || echo "$failures sweep checks failed"
+exit $((failures > 0))
