@@ -1,6 +1,8 @@
 #include "engine/scenario_registry.hpp"
 
 #include "scenarios/haff_cooling.hpp"
+#include "scenarios/mixture.hpp"
+#include "scenarios/speed_distribution.hpp"
 
 namespace granflow {
 
@@ -8,6 +10,10 @@ const std::vector<ScenarioInfo>& all_scenarios() {
   static const std::vector<ScenarioInfo> all{
       {"haff_cooling", "homogeneous cooling of inelastic hard spheres/disks against Haff's law (EDMD)",
        scenarios::haff_cooling_schema, scenarios::run_haff_cooling},
+      {"speed_distribution", "relaxation of a one-speed gas to Maxwell-Boltzmann; speed histograms (EDMD)",
+       scenarios::speed_distribution_schema, scenarios::run_speed_distribution},
+      {"mixture", "two-mass gas: equipartition at xi = 1 and its breakdown at xi < 1 (EDMD)",
+       scenarios::mixture_schema, scenarios::run_mixture},
   };
   return all;
 }
@@ -23,6 +29,7 @@ const std::vector<SystemInfo>& systems_catalogue() {
       {"edmd_advance", "event-driven hard spheres/disks up to the next output time (cells, O(1) calendar, TC model)"},
       {"observe_kinetic_energy", "mean kinetic energy per particle and temperature T = (2/d)<E_kin>"},
       {"observe_collisions_per_particle", "2 x pair collisions / N"},
+      {"observe_kinetic_energy_by_species", "mean kinetic energy per particle of each species of a mixture"},
       {"write_observables", "appends fresh observables to /observables/<name>/{step,time,value}"},
   };
   return all;

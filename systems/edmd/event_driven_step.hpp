@@ -27,9 +27,13 @@ class EventDrivenStep : public System {
 
   void run(World& world) override {
     auto& control = world.resource<RunControl>();
-    const StopReason reason = gas_.advance(control.target_time, limits_);
+    AdvanceLimits limits = limits_;
+    limits.max_pair_collisions = std::min(limits.max_pair_collisions, control.pause_at_pair_collisions);
+    StopReason reason = gas_.advance(control.target_time, limits);
     gas_.synchronize(reason == StopReason::reached_time || reason == StopReason::no_events ? control.target_time
                                                                                             : gas_.time());
+    if (reason == StopReason::collision_limit && gas_.statistics().pair_collisions < limits_.max_pair_collisions)
+      reason = StopReason::reached_time;  // a pause the driver asked for
     auto& clock = world.resource<Clock>();
     clock.time = gas_.time();
     clock.step = static_cast<std::int64_t>(gas_.statistics().pair_collisions);

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <numbers>
 #include <string>
 
@@ -33,6 +34,7 @@ struct GasDefaults {
   std::string velocity = "equilibrated";
   double restitution = 0.8;
   double t_stop = 100.0;
+  bool remove_mean_velocity = true;
 };
 
 inline void declare_gas_keys(ConfigSchema& schema, const GasDefaults& d) {
@@ -51,7 +53,7 @@ inline void declare_gas_keys(ConfigSchema& schema, const GasDefaults& d) {
       .real("initial.temperature", 2.0 / 3.0, 0.0, inf, "initial temperature (maxwell_boltzmann)", true)
       .real("initial.equilibration_collisions", 20.0, 0.0, 1e6,
             "collisions per particle of the elastic run that prepares an equilibrated state")
-      .boolean("initial.remove_mean_velocity", true,
+      .boolean("initial.remove_mean_velocity", d.remove_mean_velocity,
                "remove the centre-of-mass velocity at start (seed 000 sec. 3.8), keeping the kinetic energy")
       .real("collision.restitution", d.restitution, 0.0, 1.0, "normal restitution coefficient xi")
       .real("collision.wall_restitution", 1.0, 0.0, 1.0, "restitution of reflecting walls (seed 002 eqs. 3-4)")
@@ -82,9 +84,11 @@ inline CollisionParameters collision_parameters_from(const Config& config) {
   return p;
 }
 
-// Fills an empty world (of system.count entities) with the configured gas at t = 0.
+// Fills an empty world (of system.count entities) with the configured gas at
+// t = 0. `customize` may change masses, radii or add components (a mixture's
+// species) before particles are placed and given velocities.
 template <int D>
-void build_gas(World& world, const Config& config) {
+void build_gas(World& world, const Config& config, const std::function<void(World&)>& customize = {}) {
   const auto count = static_cast<std::size_t>(config.integer("system.count"));
   const auto seed = static_cast<std::uint64_t>(config.integer("run.seed"));
   world.resize(count);
@@ -95,6 +99,7 @@ void build_gas(World& world, const Config& config) {
   auto& velocity = world.add_component<Velocity<D>>();
   std::fill(mass.values.begin(), mass.values.end(), config.real("system.mass"));
   std::fill(radius.values.begin(), radius.values.end(), config.real("system.radius"));
+  if (customize) customize(world);
 
   PlacementRegion<D> everywhere;
   everywhere.upper = box.length;

@@ -1,0 +1,49 @@
+#pragma once
+// Mean kinetic energy per particle of each species of a mixture, observable
+// `kinetic_energy_by_species` (one value per species, in species order).
+
+#include <string>
+#include <vector>
+
+#include "components/mass.hpp"
+#include "components/species.hpp"
+#include "components/velocity.hpp"
+#include "engine/observable_store.hpp"
+#include "engine/system.hpp"
+#include "engine/world.hpp"
+
+namespace granflow {
+
+template <int D>
+std::vector<double> species_kinetic_energies(const World& world, std::size_t species_count) {
+  const auto& v = world.component<Velocity<D>>();
+  const auto& m = world.component<Mass>();
+  const auto& species = world.component<Species>();
+  std::vector<double> energy(species_count, 0.0), members(species_count, 0.0);
+  for (std::size_t i = 0; i < world.size(); ++i) {
+    energy[species[i]] += 0.5 * m[i] * v[i].squaredNorm();
+    members[species[i]] += 1.0;
+  }
+  for (std::size_t s = 0; s < species_count; ++s) energy[s] = members[s] > 0 ? energy[s] / members[s] : 0.0;
+  return energy;
+}
+
+template <int D>
+class SpeciesKineticEnergyObserver : public System {
+ public:
+  static constexpr const char* observable = "kinetic_energy_by_species";
+  explicit SpeciesKineticEnergyObserver(std::size_t species_count) : species_count_(species_count) {}
+
+  std::string name() const override { return "observe_kinetic_energy_by_species"; }
+  Access access() const override {
+    return {{Velocity<D>::key, Mass::key, Species::key}, {ObservableStore::access_key(observable)}};
+  }
+  void run(World& world) override {
+    world.resource<ObservableStore>().set(observable, species_kinetic_energies<D>(world, species_count_));
+  }
+
+ private:
+  std::size_t species_count_;
+};
+
+}  // namespace granflow

@@ -1,0 +1,98 @@
+// Two-mass hard-disk gas (seed 002 problems 2-3): elastic collisions bring
+// both species to the same mean kinetic energy (equipartition); inelastic
+// ones do not, and the heavy species stays hotter. The statistical error is
+// measured from snapshots two collisions per particle apart, which are close
+// to independent (seed 002 appendix C.2).
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "scenarios/mixture.hpp"
+#include "systems/edmd/gas_setup.hpp"
+#include "systems/observables/species_kinetic_energy.hpp"
+
+namespace granflow::scenarios {
+namespace {
+
+struct Ratio {
+  double mean;
+  double standard_error;
+};
+
+// Heavy over light mean kinetic energy in `snapshots` snapshots, `between`
+// collisions per particle apart, starting now.
+Ratio energy_ratio(edmd::EventDrivenGas<2>& gas, World& world, int snapshots, double between) {
+  std::vector<double> ratios;
+  const auto start = gas.statistics().pair_collisions;
+  for (int s = 1; s <= snapshots; ++s) {
+    edmd::AdvanceLimits limits;
+    limits.max_pair_collisions = start + static_cast<std::uint64_t>(s * between * static_cast<double>(world.size()) / 2);
+    gas.advance(INFINITY, limits);
+    gas.synchronize(gas.time());
+    const auto energy = species_kinetic_energies<2>(world, 2);
+    ratios.push_back(energy[1] / energy[0]);
+  }
+  double mean = 0.0, squares = 0.0;
+  for (double r : ratios) mean += r;
+  mean /= static_cast<double>(ratios.size());
+  for (double r : ratios) squares += (r - mean) * (r - mean);
+  return {mean, std::sqrt(squares / static_cast<double>(ratios.size() - 1) / static_cast<double>(ratios.size()))};
+}
+
+Config mixture_config() {
+  Config config(mixture_schema());
+  config.set("system.count", std::int64_t{4000});
+  return config;
+}
+
+TEST(Mixture, ElasticSpeciesShareTheKineticEnergy) {
+  const Config config = mixture_config();
+  World world;
+  edmd::build_gas<2>(world, config, mixture_species(config));
+  // All start at one speed: the heavy species holds 4 times the energy.
+  const auto start = species_kinetic_energies<2>(world, 2);
+  ASSERT_NEAR(start[1] / start[0], 4.0, 1e-12);
+  edmd::EventDrivenGas<2> gas(world, edmd::collision_parameters_from(config));
+  gas.start(0.0);
+  edmd::AdvanceLimits relax;
+  relax.max_pair_collisions = 10 * world.size() / 2;
+  gas.advance(INFINITY, relax);
+  const Ratio ratio = energy_ratio(gas, world, 20, 2.0);
+  std::printf("xi = 1: heavy/light mean kinetic energy %.4f +- %.4f\n", ratio.mean, ratio.standard_error);
+  // 2000 particles per species: the ratio fluctuates by ~sqrt(2/2000)*sqrt(2) ~ 4 % per snapshot.
+  EXPECT_LT(ratio.standard_error, 0.02);
+  EXPECT_NEAR(ratio.mean, 1.0, 4.0 * ratio.standard_error) << "standard error " << ratio.standard_error;
+}
+
+TEST(Mixture, InelasticHeavySpeciesIsHotter) {
+  Config config = mixture_config();
+  World world;
+  edmd::build_gas<2>(world, config, mixture_species(config));
+  // Start from equipartition, so a hotter heavy species is not left over from the start.
+  {
+    edmd::EventDrivenGas<2> elastic(world, edmd::collision_parameters_from(config));
+    elastic.start(0.0);
+    edmd::AdvanceLimits relax;
+    relax.max_pair_collisions = 10 * world.size() / 2;
+    elastic.advance(INFINITY, relax);
+    elastic.synchronize(elastic.time());
+  }
+  const auto equal = species_kinetic_energies<2>(world, 2);
+  ASSERT_NEAR(equal[1] / equal[0], 1.0, 0.15);
+  config.set("collision.restitution", 0.8);
+  edmd::EventDrivenGas<2> gas(world, edmd::collision_parameters_from(config));
+  gas.start(0.0);
+  edmd::AdvanceLimits settle;
+  settle.max_pair_collisions = 5 * world.size() / 2;
+  gas.advance(INFINITY, settle);
+  const Ratio ratio = energy_ratio(gas, world, 10, 1.0);
+  std::printf("xi = 0.8: heavy/light mean kinetic energy %.4f +- %.4f\n", ratio.mean, ratio.standard_error);
+  EXPECT_GT(ratio.mean - 1.0, 5.0 * ratio.standard_error) << "ratio " << ratio.mean << " +- " << ratio.standard_error;
+  EXPECT_GT(ratio.mean, 1.1);
+}
+
+}  // namespace
+}  // namespace granflow::scenarios
