@@ -2,6 +2,7 @@
 
 #include "scenarios/haff_cooling.hpp"
 #include "scenarios/mixture.hpp"
+#include "scenarios/scattering.hpp"
 #include "scenarios/speed_distribution.hpp"
 
 namespace granflow {
@@ -14,6 +15,8 @@ const std::vector<ScenarioInfo>& all_scenarios() {
        scenarios::speed_distribution_schema, scenarios::run_speed_distribution},
       {"mixture", "two-mass gas: equipartition at xi = 1 and its breakdown at xi < 1 (EDMD)",
        scenarios::mixture_schema, scenarios::run_mixture},
+      {"scattering", "scattering angle of a light disk off a heavy one against the impact parameter (EDMD)",
+       scenarios::scattering_schema, scenarios::run_scattering},
   };
   return all;
 }
