@@ -1,5 +1,6 @@
 #include "engine/scenario_registry.hpp"
 
+#include "scenarios/crater_impact.hpp"
 #include "scenarios/haff_cooling.hpp"
 #include "scenarios/mixture.hpp"
 #include "scenarios/scattering.hpp"
@@ -17,6 +18,8 @@ const std::vector<ScenarioInfo>& all_scenarios() {
        scenarios::mixture_schema, scenarios::run_mixture},
       {"scattering", "scattering angle of a light disk off a heavy one against the impact parameter (EDMD)",
        scenarios::scattering_schema, scenarios::run_scattering},
+      {"crater_impact", "a heavy projectile hits a resting bed of disks; crater size and penetration (EDMD)",
+       scenarios::crater_impact_schema, scenarios::run_crater_impact},
   };
   return all;
 }
@@ -33,6 +36,7 @@ const std::vector<SystemInfo>& systems_catalogue() {
       {"observe_kinetic_energy", "mean kinetic energy per particle and temperature T = (2/d)<E_kin>"},
       {"observe_collisions_per_particle", "2 x pair collisions / N"},
       {"observe_kinetic_energy_by_species", "mean kinetic energy per particle of each species of a mixture"},
+      {"observe_crater", "crater_size (bed disks displaced beyond a threshold) and projectile_depth"},
       {"write_observables", "appends fresh observables to /observables/<name>/{step,time,value}"},
   };
   return all;

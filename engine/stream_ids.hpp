@@ -9,5 +9,7 @@ namespace granflow::stream {
 inline constexpr std::uint32_t placement = 1;        // random particle positions
 inline constexpr std::uint32_t initial_velocity = 2; // initial velocity directions / Maxwell draws
 inline constexpr std::uint32_t ensemble_seed = 3;    // seeds derived for ensemble members
+inline constexpr std::uint32_t lattice_vacancy = 4;  // which lattice sites stay empty in a melted lattice
+inline constexpr std::uint32_t melt_velocity = 5;    // velocities of the elastic run that melts a lattice
 
 }  // namespace granflow::stream

@@ -8,7 +8,9 @@
 
 #include <toml++/toml.h>
 
+#include "engine/rng.hpp"
 #include "engine/scenario_registry.hpp"
+#include "engine/stream_ids.hpp"
 #include "engine/toml_leaves.hpp"
 
 namespace granflow {
@@ -96,17 +98,12 @@ std::vector<Assignment> listed_points(const toml::array* list, const std::string
   return points;
 }
 
-std::uint64_t mix(std::uint64_t z) {  // splitmix64 finaliser
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 }  // namespace
 
 std::int64_t repeat_seed(std::int64_t base, std::size_t repeat) {
   if (repeat == 0) return base;
-  const std::uint64_t mixed = mix(static_cast<std::uint64_t>(base) + 0x9e3779b97f4a7c15ULL * repeat);
+  const auto words = Philox(stream::ensemble_seed, static_cast<std::uint64_t>(base), 0, repeat).next_words();
+  const std::uint64_t mixed = (static_cast<std::uint64_t>(words[0]) << 32) | words[1];
   return static_cast<std::int64_t>(mixed >> 1);  // non-negative, as run.seed requires
 }
 
