@@ -161,7 +161,7 @@ void write_summary(const SweepPlan& plan, const std::vector<std::vector<double>>
   write_csv(plan.directory / "summary.csv", summary);
   write_csv(plan.directory / "summary_runs.csv", runs);
   H5mdFile file((plan.directory / "summary.h5").string(), "sweep");
-  file.write_attribute("/parameters", "scenario", plan.scenario);
+  file.write_attribute("/parameters", "swept_scenario", plan.scenario);
   file.write_attribute("/parameters", "scenario_file", plan.scenario_file.string());
   file.write_attribute("/parameters", "repeats", static_cast<double>(plan.repeats));
   file.write_text_array("/parameters", "swept_keys", plan.swept_keys);

@@ -1,11 +1,22 @@
 #!/usr/bin/python3
-"""Draws the figures a physicist expects from a granflow result file.
+"""Draws the figures a physicist expects from granflow result files.
 
-Usage: /usr/bin/python3 tools/plot.py OUT.h5 [-o FIGURE.png]
+Usage: /usr/bin/python3 tools/plot.py OUT.h5 [MORE.h5 ...] [-o FIGURE.png]
+       /usr/bin/python3 tools/plot.py SWEEP/summary.h5 [--x KEY] [--y NAME] [--logx]
 
 haff_cooling: T(t)/T0 on log-log axes with Haff's law T0/(1 + t/tau0)^2
-(seed 000 eqs. 2.40 and 2.45), tau0 from the Enskog collision frequency of the
-initial state, and the ratio to Haff's law below it.
+  (seed 000 eqs. 2.40 and 2.45) and the ratio to Haff's law below it.
+speed_distribution: initial (delta) and equilibrium speed histograms with the
+  Maxwell-Boltzmann density at the measured temperature.
+mixture: mean kinetic energy of all particles and of each species against
+  time (several files, e.g. one per xi, are overlaid), and the speed
+  histograms of each species with Maxwell-Boltzmann.
+scattering: scattering angle against b/R12 with the analytic curve.
+crater_impact: the bed before and after the impact drawn to scale (disks
+  of their true radii; crater disks coloured), and crater size, projectile
+  depth and kinetic energy against time.
+sweep summaries: each summary observable (mean and standard error over
+  repeats) against a swept key.
 """
 import argparse
 import sys
@@ -57,20 +68,212 @@ def plot_haff(f, output):
     print(f"wrote {output}")
 
 
-PLOTTERS = {"haff_cooling": plot_haff}
+def text(value):
+    return value.decode() if isinstance(value, bytes) else str(value)
+
+
+def maxwell_boltzmann(v, temperature, mass, dim):
+    a = mass / temperature
+    if dim == 2:
+        return a * v * np.exp(-0.5 * a * v * v)
+    return np.sqrt(2 / np.pi) * a ** 1.5 * v * v * np.exp(-0.5 * a * v * v)
+
+
+def draw_histogram(ax, f, name, dim, label, colour, theory=True):
+    density = f[f"/observables/{name}"][()]
+    edges = f[f"/observables/{name}_edges"][()]
+    ax.stairs(density, edges, color=colour, label=label)
+    stats = f[f"/observables/speed_statistics/{name}"].attrs
+    if theory and float(stats["temperature"]) > 0:
+        v = np.linspace(0, edges[-1], 400)
+        ax.plot(v, maxwell_boltzmann(v, float(stats["temperature"]), float(stats["mass"]), dim), "--",
+                color=colour, lw=1)
+    return stats
+
+
+def plot_speed_distribution(files, output):
+    f = files[0]
+    dim = int(f["/parameters/system"].attrs["dimension"])
+    n = int(f["/parameters/system"].attrs["count"])
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
+    draw_histogram(left, f, "speed_histogram_initial", dim, "t = 0", "C0", theory=False)
+    left.set_title("initial speeds (all equal)")
+    stats = draw_histogram(right, f, "speed_histogram", dim, "equilibrium (EDMD)", "C1")
+    right.plot([], [], "--", color="C1", label="Maxwell-Boltzmann")
+    snaps = int(f["/observables"].attrs["speed_snapshots"])
+    right.set_title(f"{int(stats['samples'])} speeds from {snaps} snapshots", fontsize=10)
+    lines = [f"{q}: {float(stats[q + '_speed']):.4f} (MB {float(stats['maxwell_boltzmann_' + q + '_speed']):.4f})"
+             for q in ("mean", "rms", "most_probable")]
+    lines.append(f"$\chi^2$ = {float(stats['chi_square']):.1f} (0.999: {float(stats['chi_square_critical_0999']):.1f})")
+    right.text(0.98, 0.6, "\n".join(lines), transform=right.transAxes, ha="right", fontsize=8)
+    for ax in (left, right):
+        ax.set_xlabel("speed v")
+        ax.set_ylabel("probability density")
+    right.legend(fontsize=8)
+    fig.suptitle(f"speed distribution, {dim}D, N = {n}")
+    fig.tight_layout()
+    fig.savefig(output, dpi=120)
+    print(f"wrote {output}")
+
+
+def plot_mixture(files, output):
+    dim = int(files[0]["/parameters/system"].attrs["dimension"])
+    fig, axes = plt.subplots(2, 2, figsize=(11, 8))
+    series = axes[0, 0]
+    ratio = axes[0, 1]
+    for k, f in enumerate(files):
+        xi = float(f["/parameters/collision"].attrs["restitution"])
+        time = f["/observables/kinetic_energy/time"][()]
+        every = f["/observables/kinetic_energy/value"][()]
+        species = f["/observables/kinetic_energy_by_species/value"][()]
+        colour = f"C{k}"
+        series.plot(time, every, "-", color=colour, label=f"all, $\\xi$ = {xi:g}")
+        series.plot(time, species[:, 0], "--", color=colour, label=f"light, $\\xi$ = {xi:g}")
+        series.plot(time, species[:, 1], ":", color=colour, label=f"heavy, $\\xi$ = {xi:g}")
+        ratio.plot(time, species[:, 1] / species[:, 0], "-", color=colour, label=f"$\\xi$ = {xi:g}")
+    series.set_xlabel("t")
+    series.set_ylabel("mean kinetic energy per particle")
+    series.set_yscale("log")
+    series.legend(fontsize=7, ncol=2)
+    ratio.axhline(1.0, color="k", lw=0.8)
+    ratio.set_xlabel("t")
+    ratio.set_ylabel("heavy / light mean kinetic energy")
+    ratio.legend(fontsize=8)
+    f = files[0]
+    for s, name in enumerate(("light", "heavy")):
+        ax = axes[1, s]
+        draw_histogram(ax, f, f"speed_histogram_initial_{name}", dim, "t = 0", "C0", theory=False)
+        stats = draw_histogram(ax, f, f"speed_histogram_{name}", dim, "sampled", "C1")
+        ax.set_title(f"{name} (m = {float(stats['mass']):g}): mean speed {float(stats['mean_speed']):.3f}, "
+                     f"mean E {float(stats['mean_kinetic_energy']):.4f}", fontsize=9)
+        ax.set_xlabel("speed v")
+        ax.set_ylabel("probability density")
+        ax.legend(fontsize=8)
+    fig.suptitle(f"two-mass mixture, {dim}D, N = {int(f['/parameters/system'].attrs['count'])}")
+    fig.tight_layout()
+    fig.savefig(output, dpi=120)
+    print(f"wrote {output}")
+
+
+def plot_scattering(files, output):
+    f = files[0]
+    ratio = f["/observables/impact_parameter_ratio"][()]
+    fig, ax = plt.subplots(figsize=(6.4, 4.5))
+    ax.plot(ratio, f["/observables/scattering_angle"][()], "o", ms=4, label="granflow EDMD")
+    ax.plot(ratio, f["/observables/scattering_angle_analytic"][()], "-", label="analytic")
+    ax.set_xlabel("$b / R_{12}$")
+    ax.set_ylabel("scattering angle [rad]")
+    xi = float(f["/parameters/collision"].attrs["restitution"])
+    ax.set_title(f"scattering off a heavy disk, $\\xi$ = {xi:g}", fontsize=10)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(output, dpi=120)
+    print(f"wrote {output}")
+
+
+def plot_crater(files, output):
+    from matplotlib.collections import EllipseCollection
+    f = files[0]
+    position = f["/particles/all/position/value"][()]
+    radius = f["/particles/all/radius"][()]
+    species = f["/particles/all/species"][()]
+    threshold = float(f["/parameters/crater"].attrs["displacement_threshold"]) * float(
+        f["/parameters/derived"].attrs["bed_radius"])
+    first, last = position[0], position[-1]
+    moved = np.linalg.norm(last - first, axis=1) > threshold
+    fig = plt.figure(figsize=(13, 4.6))
+    for k, (frame, title) in enumerate(((first, "before"), (last, "after"))):
+        ax = fig.add_subplot(1, 3, k + 1)
+        colours = np.where(species == 1, "C3", np.where(moved & (k == 1), "C1", "C0"))
+        # Widths in data units: the disks are drawn at their true size.
+        ax.add_collection(EllipseCollection(2 * radius, 2 * radius, np.zeros_like(radius), units="xy",
+                                            offsets=frame, transOffset=ax.transData, facecolors=colours,
+                                            edgecolors="none"))
+        ax.set_xlim(0, 1)
+        ax.set_ylim(0, 1)
+        ax.set_aspect("equal")
+        t = f["/particles/all/position/time"][()][0 if k == 0 else -1]
+        ax.set_title(f"{title} (t = {t:.3g})" + (f": crater {int(moved[species == 0].sum())} disks" if k else ""),
+                     fontsize=10)
+    ax = fig.add_subplot(1, 3, 3)
+    time = f["/observables/crater_size/time"][()]
+    ax.plot(time, f["/observables/crater_size/value"][()], label="crater size [disks]")
+    ax.set_xlabel("t")
+    ax.set_ylabel("crater size [disks]")
+    twin = ax.twinx()
+    e = f["/observables/kinetic_energy/value"][()]
+    twin.semilogy(time, e / e[0], "C2", label="E / E0")
+    twin.set_ylabel("kinetic energy / initial", color="C2")
+    fig.tight_layout()
+    fig.savefig(output, dpi=120)
+    print(f"wrote {output}")
+
+
+def plot_sweep(files, output, x_key=None, y_names=None, logx=False):
+    f = files[0]
+    swept = [text(k) for k in f["/parameters/swept_keys"][()]]
+    summary = f["/summary"]
+    x_key = x_key or swept[0]
+    if x_key not in summary:
+        sys.exit(f"plot.py: '{x_key}' is not a swept key; swept: {', '.join(swept)}")
+    x = np.array([float(text(v)) for v in summary[x_key][()]])
+    names = y_names or sorted(k[:-5] for k in summary if k.endswith("_mean"))
+    others = [k for k in swept if k != x_key]
+    groups = {}
+    for row in range(len(x)):
+        label = ", ".join(f"{k} = {text(summary[k][()][row])}" for k in others)
+        groups.setdefault(label, []).append(row)
+    fig, axes = plt.subplots(len(names), 1, figsize=(6.4, 3.6 * len(names)), squeeze=False)
+    for ax, name in zip(axes[:, 0], names):
+        mean = summary[f"{name}_mean"][()]
+        err = np.nan_to_num(summary[f"{name}_stderr"][()])
+        for label, rows in groups.items():
+            rows = sorted(rows, key=lambda r: x[r])
+            ax.errorbar(x[rows], mean[rows], yerr=err[rows], fmt="o-", capsize=3, label=label or None)
+        ax.set_xlabel(x_key)
+        ax.set_ylabel(name)
+        if logx:
+            ax.set_xscale("log")
+        if len(groups) > 1:
+            ax.legend(fontsize=8)
+    runs = summary["runs"][()]
+    scenario = text(f["/parameters"].attrs["swept_scenario"])
+    axes[0, 0].set_title(f"{scenario} sweep: mean $\\pm$ standard error over {int(runs.max())} runs per point",
+                         fontsize=10)
+    fig.tight_layout()
+    fig.savefig(output, dpi=120)
+    print(f"wrote {output}")
+
+
+PLOTTERS = {"haff_cooling": lambda files, output: plot_haff(files[0], output),
+            "speed_distribution": plot_speed_distribution,
+            "mixture": plot_mixture,
+            "scattering": plot_scattering,
+            "crater_impact": plot_crater}
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("file", help="granflow H5MD result file")
-    parser.add_argument("-o", "--output", help="figure file (default: FILE with .png)")
+    parser.add_argument("files", nargs="+", help="granflow H5MD result files (several: overlaid where it makes sense)")
+    parser.add_argument("-o", "--output", help="figure file (default: first FILE with .png)")
+    parser.add_argument("--x", help="sweep summaries: swept key on the x axis (default: the first)")
+    parser.add_argument("--y", action="append", help="sweep summaries: observable to draw (repeatable; default: all)")
+    parser.add_argument("--logx", action="store_true", help="sweep summaries: logarithmic x axis")
     args = parser.parse_args()
-    output = args.output or (args.file[:-3] if args.file.endswith(".h5") else args.file) + ".png"
-    with h5py.File(args.file, "r") as f:
-        scenario = scenario_of(f)
-        if scenario not in PLOTTERS:
+    first = args.files[0]
+    output = args.output or (first[:-3] if first.endswith(".h5") else first) + ".png"
+    files = [h5py.File(name, "r") for name in args.files]
+    try:
+        scenario = scenario_of(files[0])
+        if scenario == "sweep":
+            plot_sweep(files, output, args.x, args.y, args.logx)
+        elif scenario in PLOTTERS:
+            PLOTTERS[scenario](files, output)
+        else:
             sys.exit(f"plot.py: no figure defined for scenario '{scenario}'")
-        PLOTTERS[scenario](f, output)
+    finally:
+        for f in files:
+            f.close()
 
 
 if __name__ == "__main__":
