@@ -166,12 +166,7 @@ int run_crater_impact(const Config& config, const RunOptions& options) {
   const std::vector<std::string> observables{"kinetic_energy", "temperature", "collisions_per_particle",
                                              "crater_size", "projectile_depth"};
   for (const auto& name : observables) store.declare(name);
-  edmd::AdvanceLimits limits;
-  const double max_cpp = config.real("run.max_collisions_per_particle");
-  if (std::isfinite(max_cpp))
-    limits.max_pair_collisions =
-        static_cast<std::uint64_t>(std::ceil(max_cpp * static_cast<double>(world.size()) / 2));
-  limits.min_kinetic_energy = config.real("run.min_energy_fraction") * energy0;
+  const edmd::AdvanceLimits limits = edmd::advance_limits_from(config, world.size(), energy0);
 
   Profiler profiler;
   Schedule schedule(profiler);

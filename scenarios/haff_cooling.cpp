@@ -134,12 +134,8 @@ int run(const Config& config, const RunOptions& options) {
   for (const auto& [name, value] : derived) file.write_attribute("/parameters/derived", name, value);
   file.write_attribute("/parameters/derived", "bytes_per_particle", static_cast<double>(gas.bytes_per_particle()));
 
-  edmd::AdvanceLimits limits;
-  const double max_cpp = config.real("run.max_collisions_per_particle");
-  if (std::isfinite(max_cpp))
-    limits.max_pair_collisions = static_cast<std::uint64_t>(std::ceil(max_cpp * static_cast<double>(count) / 2));
   const double energy0 = derived.at("initial_kinetic_energy");
-  limits.min_kinetic_energy = config.real("run.min_energy_fraction") * energy0;
+  const edmd::AdvanceLimits limits = edmd::advance_limits_from(config, count, energy0);
 
   Profiler profiler;
   Schedule schedule(profiler);

@@ -20,16 +20,7 @@ const ConfigSchema& mixture_schema() {
   static const ConfigSchema schema = [] {
     ConfigSchema s;
     s.choice("scenario", "mixture", {"mixture"}, "scenario name");
-    edmd::GasDefaults gas;
-    gas.dimension = 2;
-    gas.count = 4000;
-    gas.radius = 0.003;
-    gas.boundary = "reflecting";
-    gas.velocity = "fixed_speed";
-    gas.restitution = 1.0;
-    gas.t_stop = 100.0;
-    gas.remove_mean_velocity = false;  // walls do not conserve momentum; keep the one-speed start exact
-    edmd::declare_gas_keys(s, gas);
+    declare_speed_study_gas_keys(s);
     s.real("mixture.mass_ratio", 4.0, 0.0, std::numeric_limits<double>::infinity(),
            "mass of the heavy species over system.mass", true)
         .real("mixture.heavy_fraction", 0.5, 0.0, 1.0, "fraction of the particles that are heavy");

@@ -14,16 +14,7 @@ const ConfigSchema& speed_distribution_schema() {
   static const ConfigSchema schema = [] {
     ConfigSchema s;
     s.choice("scenario", "speed_distribution", {"speed_distribution"}, "scenario name");
-    edmd::GasDefaults gas;
-    gas.dimension = 2;
-    gas.count = 4000;
-    gas.radius = 0.003;
-    gas.boundary = "reflecting";
-    gas.velocity = "fixed_speed";
-    gas.restitution = 1.0;
-    gas.t_stop = 100.0;
-    gas.remove_mean_velocity = false;  // walls do not conserve momentum; keep the one-speed start exact
-    edmd::declare_gas_keys(s, gas);
+    declare_speed_study_gas_keys(s);
     declare_speed_study_keys(s, SamplingDefaults{20.0, 10, 10.0, 0.05});
     return s;
   }();

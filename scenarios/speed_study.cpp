@@ -37,6 +37,19 @@ void declare_speed_study_keys(ConfigSchema& s, const SamplingDefaults& d) {
       .choice("output.positions", "final", {"none", "final"}, "particle positions and velocities at the end");
 }
 
+void declare_speed_study_gas_keys(ConfigSchema& s) {
+  edmd::GasDefaults gas;
+  gas.dimension = 2;
+  gas.count = 4000;
+  gas.radius = 0.003;
+  gas.boundary = "reflecting";
+  gas.velocity = "fixed_speed";
+  gas.restitution = 1.0;
+  gas.t_stop = 100.0;
+  gas.remove_mean_velocity = false;  // walls do not conserve momentum; keep the one-speed start exact
+  edmd::declare_gas_keys(s, gas);
+}
+
 namespace {
 
 double max_of(const std::vector<double>& values) {
@@ -76,11 +89,8 @@ int run(const Config& config, const RunOptions& options, const SpeedStudy& study
   if (species_count > 1) observables.push_back(SpeciesKineticEnergyObserver<D>::observable);
   for (const auto& name : observables) store.declare(name);
 
-  edmd::AdvanceLimits limits;
+  const edmd::AdvanceLimits limits = edmd::advance_limits_from(config, count, energy0);
   const double max_cpp = config.real("run.max_collisions_per_particle");
-  if (std::isfinite(max_cpp))
-    limits.max_pair_collisions = static_cast<std::uint64_t>(std::ceil(max_cpp * static_cast<double>(count) / 2));
-  limits.min_kinetic_energy = config.real("run.min_energy_fraction") * energy0;
 
   Profiler profiler;
   Schedule schedule(profiler);

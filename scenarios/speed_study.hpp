@@ -30,6 +30,8 @@ struct SamplingDefaults {
   double output_interval = 0.01;
 };
 void declare_speed_study_keys(ConfigSchema& schema, const SamplingDefaults& defaults);
+// Seed 002's gas: 4000 disks (r = 0.003) at one speed in a unit box with reflecting walls, elastic.
+void declare_speed_study_gas_keys(ConfigSchema& schema);
 
 int run_speed_study(const Config& config, const RunOptions& options, const SpeedStudy& study);
 

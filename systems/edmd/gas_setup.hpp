@@ -84,6 +84,17 @@ inline CollisionParameters collision_parameters_from(const Config& config) {
   return p;
 }
 
+// Stop criteria of a run from run.max_collisions_per_particle and
+// run.min_energy_fraction (of the initial kinetic energy energy0).
+inline AdvanceLimits advance_limits_from(const Config& config, std::size_t count, double energy0) {
+  AdvanceLimits limits;
+  const double max_cpp = config.real("run.max_collisions_per_particle");
+  if (std::isfinite(max_cpp))
+    limits.max_pair_collisions = static_cast<std::uint64_t>(std::ceil(max_cpp * static_cast<double>(count) / 2));
+  limits.min_kinetic_energy = config.real("run.min_energy_fraction") * energy0;
+  return limits;
+}
+
 // Fills an empty world (of system.count entities) with the configured gas at
 // t = 0. `customize` may change masses, radii or add components (a mixture's
 // species) before particles are placed and given velocities.
