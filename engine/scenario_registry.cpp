@@ -4,6 +4,7 @@
 #include "scenarios/haff_cooling.hpp"
 #include "scenarios/mixture.hpp"
 #include "scenarios/scattering.hpp"
+#include "scenarios/sde_msd.hpp"
 #include "scenarios/speed_distribution.hpp"
 
 namespace granflow {
@@ -20,6 +21,10 @@ const std::vector<ScenarioInfo>& all_scenarios() {
        scenarios::scattering_schema, scenarios::run_scattering},
       {"crater_impact", "a heavy projectile hits a resting bed of disks; crater size and penetration (EDMD)",
        scenarios::crater_impact_schema, scenarios::run_crater_impact},
+      {"langevin_msd", "ensemble and time-averaged MSD of underdamped Langevin particles (SDE; ergodic)",
+       scenarios::langevin_msd_schema, scenarios::run_sde_msd},
+      {"udsbm_msd", "ensemble and time-averaged MSD of underdamped scaled Brownian motion (SDE; not ergodic)",
+       scenarios::udsbm_msd_schema, scenarios::run_sde_msd},
   };
   return all;
 }
@@ -37,6 +42,8 @@ const std::vector<SystemInfo>& systems_catalogue() {
       {"observe_collisions_per_particle", "2 x pair collisions / N"},
       {"observe_kinetic_energy_by_species", "mean kinetic energy per particle of each species of a mixture"},
       {"observe_crater", "crater_size (bed disks displaced beyond a threshold) and projectile_depth"},
+      {"sde_advance", "Langevin / UDSBM steps of independent particles (Euler-Maruyama or exact OU), parallel_for"},
+      {"observe_msd", "ensemble mean squared displacement from unwrapped positions"},
       {"write_observables", "appends fresh observables to /observables/<name>/{step,time,value}"},
   };
   return all;

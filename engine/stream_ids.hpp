@@ -11,5 +11,8 @@ inline constexpr std::uint32_t initial_velocity = 2; // initial velocity directi
 inline constexpr std::uint32_t ensemble_seed = 3;    // seeds derived for ensemble members
 inline constexpr std::uint32_t lattice_vacancy = 4;  // which lattice sites stay empty in a melted lattice
 inline constexpr std::uint32_t melt_velocity = 5;    // velocities of the elastic run that melts a lattice
+inline constexpr std::uint32_t sde_noise = 6;        // Wiener increments of SDE stepping, keyed by step and particle
+inline constexpr std::uint32_t sde_initial = 7;      // initial velocities of SDE ensembles
+inline constexpr std::uint32_t run_seed = 8;         // seeds of the independent runs inside one scenario
 
 }  // namespace granflow::stream

@@ -1,0 +1,144 @@
+// SDE stepping against theory (seed 000 sec. 2.9, 4.2; REFERENCE.md):
+// the closed forms of the MSD against the exact moment equations, the exact
+// Ornstein-Uhlenbeck update against the stationary variance, simulated
+// ensemble MSDs against theory within their standard error, ergodicity of
+// Langevin dynamics and its breaking by UDSBM, the better scheme against
+// Euler-Maruyama at a large step, and independence of the thread count.
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+
+#include "components/clock.hpp"
+#include "engine/run_control.hpp"
+#include "scenarios/sde_msd.hpp"
+#include "systems/sde/sde_step.hpp"
+#include "systems/sde/sde_theory.hpp"
+
+namespace granflow::sde {
+namespace {
+
+SdeModel gas_model(double restitution) {
+  return model_from_gas(1000, 0.025, restitution, 2.0 / 3.0, 1.0, 1.0);
+}
+
+TEST(SdeTheory, ClosedFormsSolveTheMomentEquations) {
+  const std::vector<double> times{0.001, 0.01, 0.1, 1.0, 10.0, 100.0};
+  SdeModel langevin = gas_model(1.0);
+  ASSERT_FALSE(langevin.scaled());
+  // Seed 000 appendix F: 6 D0 = 0.350 for this gas.
+  EXPECT_NEAR(6 * langevin.diffusivity0, 0.350, 0.001);
+  const auto l = moment_msd(langevin, langevin.stationary_velocity_variance(), times);
+  for (std::size_t k = 0; k < times.size(); ++k) EXPECT_NEAR(l[k] / langevin_msd(langevin, times[k]), 1.0, 1e-7);
+  SdeModel udsbm = gas_model(0.8);
+  ASSERT_TRUE(udsbm.scaled());
+  const auto u = moment_msd(udsbm, udsbm.stationary_velocity_variance(), times);
+  for (std::size_t k = 0; k < times.size(); ++k) EXPECT_NEAR(u[k] / udsbm_msd(udsbm, times[k]), 1.0, 1e-7);
+}
+
+TEST(SdeTheory, ExactUpdateKeepsTheStationaryVariance) {
+  for (double xi : {1.0, 0.8, 0.5}) {
+    const SdeModel m = gas_model(xi);
+    for (double t : {0.0, 0.3, 7.0, 120.0})
+      for (double h : {1e-3, 0.05, 2.0}) {
+        const auto ou = exact_velocity_update(m, t, h);
+        const double propagated = ou.decay * ou.decay * m.stationary_velocity_variance(t) + ou.spread * ou.spread;
+        EXPECT_NEAR(propagated / m.stationary_velocity_variance(t + h), 1.0, 1e-12) << xi << " " << t << " " << h;
+      }
+  }
+}
+
+Config sde_config(const std::string& scenario, std::int64_t count, double t_stop, double dt) {
+  Config config(scenario == "langevin_msd" ? scenarios::langevin_msd_schema() : scenarios::udsbm_msd_schema());
+  config.set("system.count", count);
+  config.set("run.t_stop", t_stop);
+  config.set("run.dt", dt);
+  config.set("run.runs", std::int64_t{4});
+  config.set("msd.time_average_particles", std::int64_t{500});
+  return config;
+}
+
+// Largest |simulated - theory| in units of the standard error over runs,
+// allowing a relative slack for the discretisation.
+double worst_deviation(const scenarios::SdeMsdResult& r, double slack) {
+  double worst = 0.0;
+  for (std::size_t k = 0; k < r.time.size(); ++k)
+    worst = std::max(worst, std::abs(r.msd[k] - r.msd_theory[k]) / (r.msd_stderr[k] + slack * r.msd_theory[k]));
+  return worst;
+}
+
+TEST(SdeMsd, LangevinMatchesTheoryAndIsErgodic) {
+  const auto r = scenarios::measure_sde_msd(sde_config("langevin_msd", 4000, 20.0, 0.01));
+  // ~35 correlated output times: 4 standard errors bound the largest of them.
+  EXPECT_LT(worst_deviation(r, 1e-3), 4.0);
+  // Ergodic: the time average over a run of 20 equals the ensemble MSD at lags << 20.
+  const SdeModel m = scenarios::sde_model_from(sde_config("langevin_msd", 1, 1, 1));
+  for (std::size_t k = 0; k < r.lag.size(); ++k) {
+    if (r.lag[k] > 1.0) break;
+    EXPECT_NEAR(r.time_averaged_msd[k] / (3 * langevin_msd(m, r.lag[k])), 1.0, 0.03) << "lag " << r.lag[k];
+    EXPECT_LT(r.ergodicity_breaking[k], 0.1) << "lag " << r.lag[k];
+  }
+}
+
+TEST(SdeMsd, UdsbmMatchesTheoryAndIsNotErgodic) {
+  const auto r = scenarios::measure_sde_msd(sde_config("udsbm_msd", 4000, 50.0, 0.01));
+  EXPECT_LT(worst_deviation(r, 1e-3), 4.0);
+  const SdeModel m = scenarios::sde_model_from(sde_config("udsbm_msd", 1, 1, 1));
+  // Scaled Brownian motion ages: over a long measurement most of the time is
+  // spent where D has decayed, so the time average at a lag falls far
+  // below the ensemble MSD at that time.
+  bool checked = false;
+  for (std::size_t k = 0; k < r.lag.size(); ++k) {
+    if (r.lag[k] < 0.5 || r.lag[k] > 1.0) continue;
+    const double ratio = r.time_averaged_msd[k] / (3 * udsbm_msd(m, r.lag[k]));
+    EXPECT_LT(ratio, 0.5) << "lag " << r.lag[k];
+    checked = true;
+  }
+  EXPECT_TRUE(checked);
+}
+
+TEST(SdeMsd, ExactUpdateIsAccurateWhereEulerMaruyamaIsNot) {
+  // gamma0 dt = 0.29. Euler-Maruyama's velocity variance is 1/(1 - gamma dt / 2)
+  // = 1.17 times too large, which shows in the ballistic part of the MSD.
+  // The exact velocity update keeps the variance exact; its half drifts give
+  // a long-time diffusivity (gamma dt / 2) coth(gamma dt / 2) = 1 + 0.7 % of D0.
+  Config config = sde_config("langevin_msd", 20000, 2.0, 0.025);
+  config.set("msd.time_average_particles", std::int64_t{0});
+  const auto exact = scenarios::measure_sde_msd(config);
+  config.set("run.scheme", std::string("euler_maruyama"));
+  const auto euler = scenarios::measure_sde_msd(config);
+  double worst_exact = 0.0, worst_euler = 0.0;
+  // A splitting scheme resolves times of two steps and more (after one step
+  // the half drifts give (1 + decay)/2 of the ballistic MSD).
+  for (std::size_t k = 0; k < exact.time.size(); ++k) {
+    if (exact.time[k] < 2 * 0.025 * (1 - 1e-9)) continue;
+    worst_exact = std::max(worst_exact, std::abs(exact.msd[k] / exact.msd_theory[k] - 1.0));
+    worst_euler = std::max(worst_euler, std::abs(euler.msd[k] / euler.msd_theory[k] - 1.0));
+  }
+  std::printf("gamma0 dt = 0.29: largest relative MSD error exact-OU %.4f, Euler-Maruyama %.4f\n", worst_exact,
+              worst_euler);
+  EXPECT_LT(worst_exact, 0.02);
+  EXPECT_GT(worst_euler, 0.045);
+}
+
+TEST(SdeMsd, ThreadCountDoesNotChangeTrajectories) {
+  const auto trajectory = [](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    World world(50000);
+    world.add_component<Position<3>>().values.assign(world.size(), Vec<3>::Zero());
+    auto& v = world.add_component<Velocity<3>>();
+    for (std::size_t i = 0; i < world.size(); ++i) v[i] = Vec<3>(1.0, -0.5, 0.25);
+    world.emplace_resource<Clock>();
+    world.emplace_resource<RunControl>().target_time = 0.2;
+    SdeAdvance<3> step(gas_model(0.8), Scheme::exact_ou, 0.01, 7);
+    step.run(world);
+    return world.component<Position<3>>().values;
+  };
+  const auto one = trajectory(1), two = trajectory(2);
+  ASSERT_EQ(one.size(), two.size());
+  for (std::size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], two[i]) << i;
+}
+
+}  // namespace
+}  // namespace granflow::sde
