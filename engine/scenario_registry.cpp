@@ -1,5 +1,6 @@
 #include "engine/scenario_registry.hpp"
 
+#include "scenarios/brownian_edmd.hpp"
 #include "scenarios/crater_impact.hpp"
 #include "scenarios/haff_cooling.hpp"
 #include "scenarios/mixture.hpp"
@@ -21,6 +22,8 @@ const std::vector<ScenarioInfo>& all_scenarios() {
        scenarios::scattering_schema, scenarios::run_scattering},
       {"crater_impact", "a heavy projectile hits a resting bed of disks; crater size and penetration (EDMD)",
        scenarios::crater_impact_schema, scenarios::run_crater_impact},
+      {"brownian_edmd", "MSD, diffusivity and time-averaged MSD of the event-driven gas against Enskog theory",
+       scenarios::brownian_edmd_schema, scenarios::run_brownian_edmd},
       {"langevin_msd", "ensemble and time-averaged MSD of underdamped Langevin particles (SDE; ergodic)",
        scenarios::langevin_msd_schema, scenarios::run_sde_msd},
       {"udsbm_msd", "ensemble and time-averaged MSD of underdamped scaled Brownian motion (SDE; not ergodic)",

@@ -34,6 +34,7 @@
 
 #include "components/box.hpp"
 #include "components/collision_count.hpp"
+#include "components/image_count.hpp"
 #include "components/last_collision_time.hpp"
 #include "components/mass.hpp"
 #include "components/particle_id.hpp"
@@ -307,6 +308,9 @@ class EventDrivenGas {
     last_collision_ =
         parameters_.contact_time > 0.0 ? world_.template component<LastCollisionTime>().data() : nullptr;
     id_ = world_.template component<ParticleId>().data();
+    // Periodic images are counted only where a scenario asks for them (MSD).
+    image_ = world_.template has_component<ImageCount<D>>() ? world_.template component<ImageCount<D>>().data()
+                                                            : nullptr;
     box_ = world_.template resource<Box<D>>();
     const auto& position = world_.template component<Position<D>>();
     const auto& velocity = world_.template component<Velocity<D>>();
@@ -526,9 +530,11 @@ class EventDrivenGas {
     if (c[axis] == grid_.count(axis)) {
       c[axis] = 0;
       hot_[i].x[axis] -= box_.length[axis];
+      if (image_) ++image_[i][axis];
     } else if (c[axis] < 0) {
       c[axis] = grid_.count(axis) - 1;
       hot_[i].x[axis] += box_.length[axis];
+      if (image_) --image_[i][axis];
     }
     ++statistics_.cell_crossings;
     grid_.erase(i);
@@ -555,6 +561,7 @@ class EventDrivenGas {
   std::uint32_t* count_ = nullptr;
   double* last_collision_ = nullptr;
   std::uint32_t* id_ = nullptr;
+  Eigen::Matrix<std::int32_t, D, 1>* image_ = nullptr;
 
   // A particle's earliest collision (possibly later than its event), that
   // partner and the partner's collision count at prediction, in 16 bytes;

@@ -1,0 +1,25 @@
+#pragma once
+// Scenario `brownian_edmd`: see scenarios/brownian_edmd.cpp.
+
+#include <vector>
+
+#include "engine/config.hpp"
+#include "engine/scenario_registry.hpp"
+#include "systems/sde/sde_model.hpp"
+
+namespace granflow::scenarios {
+
+const ConfigSchema& brownian_edmd_schema();
+int run_brownian_edmd(const Config& config, const RunOptions& options);
+
+struct EdmdMsdResult {
+  std::vector<double> time, msd, msd_stderr, msd_theory;
+  std::vector<double> lag, time_averaged_msd, ergodicity_breaking;
+  sde::SdeModel enskog;          // gamma0, D0 (eq. 2.52) and tau0 (eq. 2.45) of the initial state
+  double temperature0 = 0.0;
+  double long_time_slope = 0.0;  // least-squares slope of the MSD over the last decade of times
+};
+// Every run (in parallel, one World each) of one configuration.
+EdmdMsdResult measure_edmd_msd(const Config& config, bool progress = false);
+
+}  // namespace granflow::scenarios
