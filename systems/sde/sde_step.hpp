@@ -6,6 +6,9 @@
 // increments are Philox draws keyed by (sde_noise, seed, step, particle), so
 // the trajectories do not depend on the thread count or block size.
 //
+// Noise: one Philox4x32-10 call per particle and step gives four normals
+// (systems/sde/gaussian_noise.hpp), of which D are used.
+//
 // Schemes: Euler-Maruyama exactly as in seed 000 (eqs. 2.92, 2.110), or the
 // exact Ornstein-Uhlenbeck velocity update between two half drifts (the
 // BAOAB splitting with no forces), which is exact in the velocity
@@ -23,28 +26,14 @@
 #include "components/clock.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
-#include "engine/rng.hpp"
 #include "engine/run_control.hpp"
 #include "engine/stream_ids.hpp"
 #include "engine/system.hpp"
 #include "engine/world.hpp"
+#include "systems/sde/sde_kernel.hpp"
 #include "systems/sde/sde_model.hpp"
 
 namespace granflow::sde {
-
-enum class Scheme { euler_maruyama, exact_ou };
-
-// One step of particle i, all D components; `normal` draws N(0, 1).
-template <int D, class Normal>
-GRANFLOW_HD inline void step_particle(double* x, double* v, const SdeModel& model, Scheme scheme, double t, double h,
-                                      const OrnsteinUhlenbeck& ou, Normal&& normal) {
-  if (scheme == Scheme::euler_maruyama) {
-    const double gamma = model.friction(t), diffusivity = model.diffusivity(t);
-    for (int a = 0; a < D; ++a) euler_maruyama_step(x[a], v[a], gamma, diffusivity, h, normal());
-  } else {
-    for (int a = 0; a < D; ++a) drift_ou_drift_step(x[a], v[a], ou, h, normal());
-  }
-}
 
 template <int D>
 class SdeAdvance : public System {
@@ -72,19 +61,13 @@ class SdeAdvance : public System {
   }
 
   void step(World& world, std::int64_t step_index) {
-    auto* x = world.component<Position<D>>().data();
-    auto* v = world.component<Velocity<D>>().data();
-    const double t = static_cast<double>(step_index) * dt_;
-    const OrnsteinUhlenbeck ou = exact_velocity_update(model_, t, dt_);
-    const SdeModel model = model_;
-    const Scheme scheme = scheme_;
-    const double h = dt_;
-    const std::uint64_t seed = seed_;
+    // Eigen's fixed-size vectors are D packed doubles: the columns are flat arrays.
+    double* x = world.component<Position<D>>().data()->data();
+    double* v = world.component<Velocity<D>>().data()->data();
+    const StepInput input{model_, scheme_, static_cast<double>(step_index) * dt_, dt_, seed_,
+                          static_cast<std::uint64_t>(step_index)};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 4096), [=](const auto& range) {
-      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-        Philox random(stream::sde_noise, seed, static_cast<std::uint64_t>(step_index), i);
-        step_particle<D>(x[i].data(), v[i].data(), model, scheme, t, h, ou, [&] { return random.normal(); });
-      }
+      sde_step_range<D>(x, v, range.begin(), range.end(), input);
     });
   }
 

@@ -34,7 +34,7 @@ inline double udsbm_msd(const SdeModel& m, double t) {
 inline std::vector<double> moment_msd(const SdeModel& m, double v2, const std::vector<double>& times) {
   std::vector<double> out;
   double x2 = 0.0, xv = 0.0, vv = v2, t = 0.0;
-  const auto rates = [&](double time, double a, double b, double c, double& da, double& db, double& dc) {
+  const auto rates = [&](double time, double b, double c, double& da, double& db, double& dc) {
     const double g = m.friction(time), d = m.diffusivity(time);
     da = 2.0 * b;
     db = c - g * b;
@@ -46,10 +46,10 @@ inline std::vector<double> moment_msd(const SdeModel& m, double v2, const std::v
       // Steps grow with the time scale of UDSBM's decaying friction.
       const double h = std::min(target - t, h_max / m.decay(t));
       double k1[3], k2[3], k3[3], k4[3];
-      rates(t, x2, xv, vv, k1[0], k1[1], k1[2]);
-      rates(t + h / 2, x2 + h / 2 * k1[0], xv + h / 2 * k1[1], vv + h / 2 * k1[2], k2[0], k2[1], k2[2]);
-      rates(t + h / 2, x2 + h / 2 * k2[0], xv + h / 2 * k2[1], vv + h / 2 * k2[2], k3[0], k3[1], k3[2]);
-      rates(t + h, x2 + h * k3[0], xv + h * k3[1], vv + h * k3[2], k4[0], k4[1], k4[2]);
+      rates(t, xv, vv, k1[0], k1[1], k1[2]);
+      rates(t + h / 2, xv + h / 2 * k1[1], vv + h / 2 * k1[2], k2[0], k2[1], k2[2]);
+      rates(t + h / 2, xv + h / 2 * k2[1], vv + h / 2 * k2[2], k3[0], k3[1], k3[2]);
+      rates(t + h, xv + h * k3[1], vv + h * k3[2], k4[0], k4[1], k4[2]);
       x2 += h / 6 * (k1[0] + 2 * k2[0] + 2 * k3[0] + k4[0]);
       xv += h / 6 * (k1[1] + 2 * k2[1] + 2 * k3[1] + k4[1]);
       vv += h / 6 * (k1[2] + 2 * k2[2] + 2 * k3[2] + k4[2]);

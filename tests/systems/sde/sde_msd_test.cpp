@@ -13,6 +13,8 @@
 #include "components/clock.hpp"
 #include "engine/run_control.hpp"
 #include "scenarios/sde_msd.hpp"
+#include "engine/rng.hpp"
+#include "systems/sde/gaussian_noise.hpp"
 #include "systems/sde/sde_step.hpp"
 #include "systems/sde/sde_theory.hpp"
 
@@ -21,6 +23,30 @@ namespace {
 
 SdeModel gas_model(double restitution) {
   return model_from_gas(1000, 0.025, restitution, 2.0 / 3.0, 1.0, 1.0);
+}
+
+TEST(GaussianNoise, PhiloxMatchesRandom123AndNormalsHaveGaussianMoments) {
+  double sum = 0, squares = 0, fourth = 0;
+  constexpr std::uint64_t draws = 500000;
+  for (std::uint64_t item = 0; item < draws; ++item) {
+    const std::uint64_t seed = 0x123456789abcdefULL + item;
+    const auto expected = Philox(stream::sde_noise, seed, item * 3, item).next_words();
+    std::uint32_t c0 = static_cast<std::uint32_t>(item), c1 = static_cast<std::uint32_t>(item >> 32);
+    std::uint32_t c2 = static_cast<std::uint32_t>(item * 3), c3 = stream::sde_noise << 16;
+    philox4x32_10(c0, c1, c2, c3, static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32));
+    ASSERT_EQ(expected, (std::array<std::uint32_t, 4>{c0, c1, c2, c3})) << item;
+    const float r = box_muller_radius(c0), angle = box_muller_angle(c1);
+    for (double z : {r * std::cos(angle), r * std::sin(angle)}) {
+      sum += z;
+      squares += z * z;
+      fourth += z * z * z * z;
+    }
+  }
+  const double n = 2.0 * draws;
+  // Standard errors: 1/sqrt(n) for the mean, sqrt(2/n) for the variance, sqrt(96/n) for the 4th moment.
+  EXPECT_NEAR(sum / n, 0.0, 4.0 / std::sqrt(n));
+  EXPECT_NEAR(squares / n, 1.0, 4.0 * std::sqrt(2.0 / n));
+  EXPECT_NEAR(fourth / n, 3.0, 4.0 * std::sqrt(96.0 / n));
 }
 
 TEST(SdeTheory, ClosedFormsSolveTheMomentEquations) {
@@ -49,29 +75,34 @@ TEST(SdeTheory, ExactUpdateKeepsTheStationaryVariance) {
   }
 }
 
-Config sde_config(const std::string& scenario, std::int64_t count, double t_stop, double dt) {
+// The standard error is estimated from the scatter of `runs` runs: 16 runs
+// (15 degrees of freedom) make that estimate good to ~20 %.
+Config sde_config(const std::string& scenario, std::int64_t count, double t_stop, double dt, std::int64_t runs = 16) {
   Config config(scenario == "langevin_msd" ? scenarios::langevin_msd_schema() : scenarios::udsbm_msd_schema());
   config.set("system.count", count);
   config.set("run.t_stop", t_stop);
   config.set("run.dt", dt);
-  config.set("run.runs", std::int64_t{4});
+  config.set("run.runs", runs);
   config.set("msd.time_average_particles", std::int64_t{500});
   return config;
 }
 
 // Largest |simulated - theory| in units of the standard error over runs,
-// allowing a relative slack for the discretisation.
-double worst_deviation(const scenarios::SdeMsdResult& r, double slack) {
+// allowing a relative slack for the discretisation, from ten steps on: over
+// the first steps the splitting's half drifts are off by O(gamma dt) (-3 %
+// after one step at gamma dt = 0.11), which 16000 particles resolve.
+double worst_deviation(const scenarios::SdeMsdResult& r, double slack, double dt) {
   double worst = 0.0;
   for (std::size_t k = 0; k < r.time.size(); ++k)
+    if (r.time[k] >= 10 * dt * (1 - 1e-9))
     worst = std::max(worst, std::abs(r.msd[k] - r.msd_theory[k]) / (r.msd_stderr[k] + slack * r.msd_theory[k]));
   return worst;
 }
 
 TEST(SdeMsd, LangevinMatchesTheoryAndIsErgodic) {
-  const auto r = scenarios::measure_sde_msd(sde_config("langevin_msd", 4000, 20.0, 0.01));
+  const auto r = scenarios::measure_sde_msd(sde_config("langevin_msd", 1000, 20.0, 0.01));
   // ~35 correlated output times: 4 standard errors bound the largest of them.
-  EXPECT_LT(worst_deviation(r, 1e-3), 4.0);
+  EXPECT_LT(worst_deviation(r, 1e-3, 0.01), 4.0);
   // Ergodic: the time average over a run of 20 equals the ensemble MSD at lags << 20.
   const SdeModel m = scenarios::sde_model_from(sde_config("langevin_msd", 1, 1, 1));
   for (std::size_t k = 0; k < r.lag.size(); ++k) {
@@ -82,8 +113,8 @@ TEST(SdeMsd, LangevinMatchesTheoryAndIsErgodic) {
 }
 
 TEST(SdeMsd, UdsbmMatchesTheoryAndIsNotErgodic) {
-  const auto r = scenarios::measure_sde_msd(sde_config("udsbm_msd", 4000, 50.0, 0.01));
-  EXPECT_LT(worst_deviation(r, 1e-3), 4.0);
+  const auto r = scenarios::measure_sde_msd(sde_config("udsbm_msd", 1000, 50.0, 0.01));
+  EXPECT_LT(worst_deviation(r, 1e-3, 0.01), 4.0);
   const SdeModel m = scenarios::sde_model_from(sde_config("udsbm_msd", 1, 1, 1));
   // Scaled Brownian motion ages: over a long measurement most of the time is
   // spent where D has decayed, so the time average at a lag falls far
@@ -103,7 +134,7 @@ TEST(SdeMsd, ExactUpdateIsAccurateWhereEulerMaruyamaIsNot) {
   // = 1.17 times too large, which shows in the ballistic part of the MSD.
   // The exact velocity update keeps the variance exact; its half drifts give
   // a long-time diffusivity (gamma dt / 2) coth(gamma dt / 2) = 1 + 0.7 % of D0.
-  Config config = sde_config("langevin_msd", 20000, 2.0, 0.025);
+  Config config = sde_config("langevin_msd", 5000, 2.0, 0.025);
   config.set("msd.time_average_particles", std::int64_t{0});
   const auto exact = scenarios::measure_sde_msd(config);
   config.set("run.scheme", std::string("euler_maruyama"));
