@@ -245,6 +245,7 @@ int run_sde_msd(const Config& config, const RunOptions& options) {
   file.write_attribute("/parameters/derived", "initial_velocity_variance", result.initial_velocity_variance);
   const auto dimension = static_cast<int>(config.integer("system.dimension"));
   const auto diffusivity = diffusivity_from_msd(result.time, result.msd, dimension);
+  const auto diffusivity_theory = diffusivity_from_msd(result.time, result.msd_theory, dimension);
   const double dt = config.real("run.dt");
   for (std::size_t k = 0; k < result.time.size(); ++k) {
     const auto step = std::llround(result.time[k] / dt);
@@ -252,6 +253,7 @@ int run_sde_msd(const Config& config, const RunOptions& options) {
     file.append_observable("msd_stderr", step, result.time[k], result.msd_stderr[k]);
     file.append_observable("msd_theory", step, result.time[k], result.msd_theory[k]);
     file.append_observable("diffusivity", step, result.time[k], diffusivity[k]);
+    file.append_observable("diffusivity_theory", step, result.time[k], diffusivity_theory[k]);
   }
   // Lags of the time average are stored as the `time` of these series.
   for (std::size_t k = 0; k < result.lag.size(); ++k) {

@@ -15,6 +15,11 @@ scattering: scattering angle against b/R12 with the analytic curve.
 crater_impact: the bed before and after the impact drawn to scale (disks
   of their true radii; crater disks coloured), and crater size, projectile
   depth and kinetic energy against time.
+langevin_msd, udsbm_msd: ensemble MSD (standard error over runs) with the
+  theory (eq. 2.68 / 2.113 through the moment equations), the time-averaged
+  MSD against lag, the diffusivity and the ergodicity-breaking parameter.
+brownian_edmd: MSD of the event-driven gas with the Langevin / UDSBM theory
+  (Enskog D0), time-averaged MSD, and the diffusivity against time.
 sweep summaries: each summary observable (mean and standard error over
   repeats) against a swept key.
 """
@@ -245,11 +250,57 @@ def plot_sweep(files, output, x_key=None, y_names=None, logx=False):
     print(f"wrote {output}")
 
 
+def series(f, name):
+    return f[f"/observables/{name}/time"][()], f[f"/observables/{name}/value"][()]
+
+
+def plot_msd(files, output):
+    f = files[0]
+    scenario = scenario_of(f)
+    fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.8))
+    t, msd = series(f, "msd")
+    _, err = series(f, "msd_stderr")
+    _, theory = series(f, "msd_theory")
+    left.errorbar(t, msd, yerr=np.nan_to_num(err), fmt="o", ms=3, capsize=2, label="ensemble MSD")
+    left.loglog(t, theory, "k--", label="theory")
+    if "time_averaged_msd" in f["/observables"]:
+        lag, tamsd = series(f, "time_averaged_msd")
+        left.loglog(lag, tamsd, "s", ms=3, mfc="none", label="time-averaged MSD (against lag)")
+    left.set_xlabel("t (lag for the time average)")
+    left.set_ylabel("MSD")
+    derived = f["/parameters/derived"].attrs
+    if scenario == "brownian_edmd":
+        xi = float(f["/parameters/collision"].attrs["restitution"])
+        title = (f"event-driven gas, $\\xi$ = {xi:g}: slope over last decade "
+                 f"{float(f['/observables'].attrs['long_time_slope']) / (6 * float(derived['enskog_diffusivity0'])):.3f}"
+                 " x 6 D0")
+    else:
+        title = (f"{scenario}: $\\gamma_0$ = {float(derived['gamma0']):.3g}, D0 = {float(derived['diffusivity0']):.3g}, "
+                 f"$\\tau_0$ = {float(derived['tau0']):.3g}")
+    left.set_title(title, fontsize=9)
+    left.legend(fontsize=8)
+    t, diffusivity = series(f, "diffusivity")
+    right.loglog(t, diffusivity, "o", ms=3, label="D(t) from the MSD (eqs. 4.1-4.2)")
+    if "diffusivity_theory" in f["/observables"]:
+        right.loglog(*series(f, "diffusivity_theory"), "k--", label="theory")
+    if "ergodicity_breaking" in f["/observables"]:
+        lag, eb = series(f, "ergodicity_breaking")
+        right.loglog(lag, np.maximum(eb, 1e-6), "^", ms=3, mfc="none", label="ergodicity breaking EB (against lag)")
+    right.set_xlabel("t")
+    right.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(output, dpi=120)
+    print(f"wrote {output}")
+
+
 PLOTTERS = {"haff_cooling": lambda files, output: plot_haff(files[0], output),
             "speed_distribution": plot_speed_distribution,
             "mixture": plot_mixture,
             "scattering": plot_scattering,
-            "crater_impact": plot_crater}
+            "crater_impact": plot_crater,
+            "langevin_msd": plot_msd,
+            "udsbm_msd": plot_msd,
+            "brownian_edmd": plot_msd}
 
 
 def main():
