@@ -112,6 +112,19 @@ TEST(SdeMsd, LangevinMatchesTheoryAndIsErgodic) {
   }
 }
 
+TEST(SdeMsd, OneAndTwoDimensionsMatchTheory) {
+  for (std::int64_t dimension : {1, 2}) {
+    Config config = sde_config("udsbm_msd", 1000, 10.0, 0.01);
+    config.set("system.dimension", dimension);
+    const auto r = scenarios::measure_sde_msd(config);
+    EXPECT_LT(worst_deviation(r, 1e-3, 0.01), 4.0) << dimension << "D";
+    EXPECT_NEAR(r.msd_theory.back() / (static_cast<double>(dimension) / 3.0 *
+                                       scenarios::measure_sde_msd(sde_config("udsbm_msd", 10, 10.0, 0.01, 1))
+                                           .msd_theory.back()),
+                1.0, 1e-12);
+  }
+}
+
 TEST(SdeMsd, UdsbmMatchesTheoryAndIsNotErgodic) {
   const auto r = scenarios::measure_sde_msd(sde_config("udsbm_msd", 1000, 50.0, 0.01));
   EXPECT_LT(worst_deviation(r, 1e-3, 0.01), 4.0);
