@@ -2,10 +2,8 @@
 // Ensemble mean squared displacement <|x(t) - x(0)|^2> over all particles
 // (observable `msd`), from unwrapped positions: position + image * L where
 // the World has ImageCount (periodic event-driven gases), the position
-// itself otherwise (free SDE particles). The sum runs in fixed-size chunks,
-// so the result is the same on any thread count.
-
-#include <tbb/parallel_for.h>
+// itself otherwise (free SDE particles). The sum has a fixed order, so the
+// result is the same on any thread count.
 
 #include <string>
 #include <vector>
@@ -14,6 +12,7 @@
 #include "components/image_count.hpp"
 #include "components/particle_id.hpp"
 #include "components/position.hpp"
+#include "engine/deterministic_sum.hpp"
 #include "engine/observable_store.hpp"
 #include "engine/system.hpp"
 #include "engine/world.hpp"
@@ -50,17 +49,9 @@ class MsdObserver : public System {
   void run(World& world) override { world.resource<ObservableStore>().set("msd", measure(world)); }
 
   double measure(const World& world) const {
-    constexpr std::size_t chunk = 4096;
-    const std::size_t chunks = (world.size() + chunk - 1) / chunk;
-    std::vector<double> partial(chunks, 0.0);
-    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-      double sum = 0.0;
-      for (std::size_t i = c * chunk; i < std::min(world.size(), (c + 1) * chunk); ++i)
-        sum += (unwrapped_position<D>(world, i) - origin_[particle_id_of(world, i)]).squaredNorm();
-      partial[c] = sum;
+    const double total = deterministic_sum(world.size(), [&](std::size_t i) {
+      return (unwrapped_position<D>(world, i) - origin_[particle_id_of(world, i)]).squaredNorm();
     });
-    double total = 0.0;
-    for (double p : partial) total += p;
     return world.size() ? total / static_cast<double>(world.size()) : 0.0;
   }
 
