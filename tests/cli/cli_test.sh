@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Command-line behaviour: bad input exits with status 2 and a message naming
 # the problem; a good run writes a complete H5MD file that is identical for
-# 1 and 2 threads; list and info work.
+# 1 and 2 threads (haff_cooling, langevin_msd, brownian_edmd); list and info work.
 set -u
 granflow="$1"
 scenario="$2"
@@ -76,6 +76,28 @@ PY
 else
   echo "FAIL: /usr/bin/python3 with h5py is needed for the output checks"; failures=$((failures + 1))
 fi
+# SDE and event-driven diffusion runs: the whole output is the same on 1 and 2 threads.
+scenarios=$(dirname "$scenario")
+for threads in 1 2; do
+  "$granflow" run "$scenarios/langevin_msd.toml" --set system.count=20000 --set run.t_stop=1 --set run.runs=2 \
+    --set msd.time_average_particles=100 --threads $threads -q -o "$work/sde$threads.h5" \
+    || { echo "FAIL: langevin_msd with $threads threads"; failures=$((failures + 1)); }
+  "$granflow" run "$scenarios/brownian_edmd.toml" --set system.count=300 --set system.radius=0.03 \
+    --set run.t_stop=2 --set collision.restitution=0.8 --threads $threads -q -o "$work/edmd$threads.h5" \
+    || { echo "FAIL: brownian_edmd with $threads threads"; failures=$((failures + 1)); }
+done
+/usr/bin/python3 - "$work" <<'PY' || failures=$((failures + 1))
+import sys, h5py, numpy as np
+work = sys.argv[1]
+for run, names in (("sde", ("msd", "msd_stderr", "time_averaged_msd", "ergodicity_breaking")),
+                   ("edmd", ("msd", "msd_stderr", "time_averaged_msd"))):
+    a, b = (h5py.File(f"{work}/{run}{t}.h5", "r") for t in (1, 2))
+    for name in names:
+        if not np.array_equal(a[f"/observables/{name}/value"][()], b[f"/observables/{name}/value"][()]):
+            sys.exit(f"FAIL: {run} {name} differs between 1 and 2 threads")
+print("ok: langevin_msd and brownian_edmd identical on 1 and 2 threads")
+PY
+
 # An interrupted run resumed from its checkpoint gives the same output as an
 # uninterrupted one, bit for bit.
 long=(--set system.count=30000 --set system.radius=0.008 --set run.t_stop=5 --set output.checkpoint_interval=0
