@@ -134,7 +134,16 @@ H5mdFile::H5mdFile(const std::string& path, const std::string& scenario)
   write_string_attribute(group("/parameters"), "scenario", scenario);
 }
 
-H5mdFile::~H5mdFile() = default;
+// A file abandoned before finish() (the run threw) is deleted: a .partial
+// left behind would only mislead. A killed process leaves it, harmlessly.
+H5mdFile::~H5mdFile() {
+  if (finished_) return;
+  series_.clear();
+  groups_.clear();
+  file_ = H5Handle();
+  std::error_code ignored;
+  std::filesystem::remove(partial_path_, ignored);
+}
 
 hid_t H5mdFile::group(const std::string& path) {
   auto it = groups_.find(path);

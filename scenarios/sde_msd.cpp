@@ -132,6 +132,14 @@ SdeMsdResult measure(const Config& config, bool show_progress) {
   const auto tracked = std::min<std::size_t>(count, static_cast<std::size_t>(config.integer("msd.time_average_particles")));
   const sde::Scheme scheme =
       config.text("run.scheme") == "euler_maruyama" ? sde::Scheme::euler_maruyama : sde::Scheme::exact_ou;
+  if (scheme == sde::Scheme::euler_maruyama && model.gamma0 * dt >= 2.0)
+    throw ConfigError(fmt::format("run.dt = {} with gamma0 = {:.4g}: Euler-Maruyama's velocity update diverges for "
+                                  "gamma0 * dt >= 2 (here {:.3g}); lower run.dt or use run.scheme = \"exact_ou\"",
+                                  dt, model.gamma0, model.gamma0 * dt));
+  if (model.gamma0 * dt > 0.5)
+    spdlog::warn("gamma0 * dt = {:.3g}: the step does not resolve the velocity relaxation time 1/gamma0; the MSD "
+                 "is only right at times of many steps",
+                 model.gamma0 * dt);
   const bool stationary = config.text("initial.velocity") == "stationary";
   const double speed = config.real("initial.speed");
   const double v2 = stationary ? model.stationary_velocity_variance(0.0) : speed * speed / D;

@@ -47,7 +47,9 @@ expect_error "'system.radius' = inf is out of range: allowed is a number in (0, 
   run "$scenario" --set system.radius=inf -o "$work/x.h5"
 expect_error "--set expects section.key=value" run "$scenario" --set oops -o "$work/x.h5"
 expect_error "" run "$scenario" --threads 0
-if [[ -e "$work/x.h5" ]]; then echo "FAIL: a failed run left $work/x.h5"; failures=$((failures + 1)); fi
+if [[ -e "$work/x.h5" || -e "$work/x.h5.partial" ]]; then
+  echo "FAIL: a failed run left $work/x.h5 or its .partial"; failures=$((failures + 1))
+fi
 
 for threads in 1 2; do
   if ! "$granflow" run "$scenario" "${small[@]}" --threads $threads -o "$work/t$threads.h5"; then
@@ -76,6 +78,16 @@ PY
 else
   echo "FAIL: /usr/bin/python3 with h5py is needed for the output checks"; failures=$((failures + 1))
 fi
+expect_error "Euler-Maruyama's velocity update diverges" run "$(dirname "$scenario")/langevin_msd.toml" \
+  --set run.scheme=euler_maruyama --set run.dt=0.5 -o "$work/x.h5"
+expect_error "system.boundary must be periodic" run "$(dirname "$scenario")/brownian_edmd.toml" \
+  --set system.boundary=reflecting -o "$work/x.h5"
+expect_error "'system.dimension' = 4 is out of range" run "$(dirname "$scenario")/udsbm_msd.toml" \
+  --set system.dimension=4 -o "$work/x.h5"
+if [[ -e "$work/x.h5" || -e "$work/x.h5.partial" ]]; then
+  echo "FAIL: a failed diffusion run left $work/x.h5 or its .partial"; failures=$((failures + 1))
+fi
+
 # SDE and event-driven diffusion runs: the whole output is the same on 1 and 2 threads.
 scenarios=$(dirname "$scenario")
 for threads in 1 2; do
