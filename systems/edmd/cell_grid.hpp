@@ -51,6 +51,15 @@ class CellGrid {
     }
     stride_[0] = 1;
     for (int a = 1; a < D; ++a) stride_[a] = stride_[a - 1] * count_[a - 1];
+    // Linear offsets of the 3^D neighbours, first axis fastest.
+    for (int n = 0; n < neighbour_count; ++n) {
+      std::int32_t offset = 0, rest = n;
+      for (int a = 0; a < D; ++a) {
+        offset += (rest % 3 - 1) * stride_[a];
+        rest /= 3;
+      }
+      neighbour_offset_[static_cast<std::size_t>(n)] = offset;
+    }
     head_.assign(total, -1);
     member_.assign(particle_count, Membership{-1, 0});
   }
@@ -82,6 +91,7 @@ class CellGrid {
     return static_cast<std::uint32_t>(cell);
   }
   std::int32_t stride(int axis) const { return stride_[axis]; }
+  std::int32_t neighbour_offset(int n) const { return neighbour_offset_[static_cast<std::size_t>(n)]; }
 
   // Cell containing a position inside the box.
   std::uint32_t locate(const auto& x) const {
@@ -111,6 +121,7 @@ class CellGrid {
  private:
   std::array<std::int32_t, D> count_{};
   std::array<std::int32_t, D> stride_{};
+  std::array<std::int32_t, neighbour_count> neighbour_offset_{};
   std::array<double, D> width_{};
   std::vector<std::int32_t> head_;
   struct Membership {

@@ -407,35 +407,52 @@ class EventDrivenGas {
     std::array<std::uint32_t, CellGrid<D>::neighbour_count> cells;
     std::array<std::uint8_t, CellGrid<D>::neighbour_count> slots;
     int used = 0;
-    std::array<std::int32_t, D> offset;
-    offset.fill(-1);
-    for (std::uint8_t n = 0; n < CellGrid<D>::neighbour_count; ++n) {
-      std::array<std::int32_t, D> c;
-      Vec<D>& shift = shifts[n];
-      shift.setZero();
-      bool inside = true;
-      for (int a = 0; a < D; ++a) {
-        c[a] = cell[a] + offset[a];
-        if (c[a] < 0 || c[a] >= grid_.count(a)) {
-          if (!box_.periodic[a]) {
-            inside = false;
-            break;
+    bool interior = true;
+    for (int a = 0; a < D && interior; ++a) interior = cell[a] >= 1 && cell[a] <= grid_.count(a) - 2;
+    if (interior) {
+      // Away from the box faces every neighbour is a fixed offset away and
+      // needs no periodic shift: the common case, without the general path's
+      // per-axis wrapping. Same cells in the same order as the general path.
+      shifts[0].setZero();
+      const std::uint32_t here = grid_.cell_of(i);
+      const int fixed_stride = fixed_axis == 0 ? 1 : fixed_axis == 1 ? 3 : 9;
+      for (int n = 0; n < CellGrid<D>::neighbour_count; ++n) {
+        if (fixed_axis >= 0 && (n / fixed_stride) % 3 - 1 != fixed_offset) continue;
+        cells[used] = static_cast<std::uint32_t>(static_cast<std::int32_t>(here) + grid_.neighbour_offset(n));
+        slots[used++] = 0;
+        grid_.prefetch_cell(cells[used - 1]);
+      }
+    } else {
+      std::array<std::int32_t, D> offset;
+      offset.fill(-1);
+      for (std::uint8_t n = 0; n < CellGrid<D>::neighbour_count; ++n) {
+        std::array<std::int32_t, D> c;
+        Vec<D>& shift = shifts[n];
+        shift.setZero();
+        bool inside = true;
+        for (int a = 0; a < D; ++a) {
+          c[a] = cell[a] + offset[a];
+          if (c[a] < 0 || c[a] >= grid_.count(a)) {
+            if (!box_.periodic[a]) {
+              inside = false;
+              break;
+            }
+            const bool below = c[a] < 0;
+            c[a] += below ? grid_.count(a) : -grid_.count(a);
+            shift[a] = below ? -box_.length[a] : box_.length[a];
           }
-          const bool below = c[a] < 0;
-          c[a] += below ? grid_.count(a) : -grid_.count(a);
-          shift[a] = below ? -box_.length[a] : box_.length[a];
         }
+        const bool wanted = fixed_axis < 0 || offset[fixed_axis] == fixed_offset;
+        // next offset in odometer order
+        for (int a = 0; a < D; ++a) {
+          if (++offset[a] <= 1) break;
+          offset[a] = -1;
+        }
+        if (!inside || !wanted) continue;
+        cells[used] = grid_.linear(c);
+        slots[used++] = n;
+        grid_.prefetch_cell(cells[used - 1]);
       }
-      const bool wanted = fixed_axis < 0 || offset[fixed_axis] == fixed_offset;
-      // next offset in odometer order
-      for (int a = 0; a < D; ++a) {
-        if (++offset[a] <= 1) break;
-        offset[a] = -1;
-      }
-      if (!inside || !wanted) continue;
-      cells[used] = grid_.linear(c);
-      slots[used++] = n;
-      grid_.prefetch_cell(cells[used - 1]);
     }
     for (int u = 0; u < used; ++u)
       for (std::int32_t k = grid_.head(cells[u]); k >= 0; k = grid_.next(static_cast<std::uint32_t>(k))) {
