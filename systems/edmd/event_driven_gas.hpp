@@ -351,6 +351,140 @@ class EventDrivenGas {
     hot_[i].t = now_;
   }
 
+  // Earliest wall contact or cell crossing of particle i (at time now_ in cell `cell`).
+  void boundary_event(std::uint32_t i, const std::array<std::int32_t, D>& cell, double& best, EventKind& kind) const {
+    const Vec<D>& xi = hot_[i].x;
+    const Vec<D>& vi = hot_[i].v;
+    const double ri = hot_[i].r;
+    for (int a = 0; a < D; ++a) {
+      const double v = vi[a];
+      if (v == 0.0) continue;
+      const bool upward = v > 0.0;
+      const bool at_wall = !box_.periodic[a] && (upward ? cell[a] == grid_.count(a) - 1 : cell[a] == 0);
+      double dt;
+      EventKind k;
+      if (at_wall) {
+        dt = ((upward ? box_.length[a] - ri : ri) - xi[a]) / v;
+        k = wall_kind(a);
+      } else {
+        dt = ((cell[a] + (upward ? 1 : 0)) * grid_.width(a) - xi[a]) / v;
+        k = crossing_kind(a, upward);
+      }
+      dt = std::max(dt, 0.0);
+      if (now_ + dt < best) {
+        best = now_ + dt;
+        kind = k;
+      }
+    }
+  }
+
+  // Stores particle i's earliest collision and returns the time of its earliest event.
+  double conclude(std::uint32_t i, double best, EventKind kind, double best_collision, std::uint32_t partner) {
+    if (best_collision < never) {
+      plan_[i].collision_time = best_collision;
+      plan_[i].partner = partner;
+      plan_[i].partner_count = count_[partner];
+    } else {
+      plan_[i].collision_time = never;
+    }
+    if (best_collision <= best) {
+      best = best_collision;
+      kind = best < never ? EventKind::collision : EventKind::none;
+    }
+    event_kind_[i] = kind;
+    return best;
+  }
+
+  static bool interior_cell(const std::array<std::int32_t, D>& cell, const CellGrid<D>& grid) {
+    for (int a = 0; a < D; ++a)
+      if (cell[a] < 1 || cell[a] > grid.count(a) - 2) return false;
+    return true;
+  }
+
+  // Re-predicts the two particles of a collision in one pass: they are
+  // neighbours, so most of their 3^D neighbour cells are shared, and each
+  // shared candidate is fetched once and tested against both. Same results
+  // as predict() for each (up to the order in which exactly equal times of
+  // different partners are compared). Falls back to two predictions near
+  // the box faces.
+  void repredict_pair(std::uint32_t i, std::uint32_t j) {
+    const auto ci = grid_.coordinates(grid_.cell_of(i));
+    const auto cj = grid_.coordinates(grid_.cell_of(j));
+    std::array<std::int32_t, D> delta;
+    bool joint = interior_cell(ci, grid_) && interior_cell(cj, grid_);
+    for (int a = 0; a < D && joint; ++a) {
+      delta[a] = ci[a] - cj[a];
+      joint = delta[a] >= -1 && delta[a] <= 1;
+    }
+    if (!joint) {
+      repredict(i);
+      repredict(j);
+      return;
+    }
+    double best_i = never, best_j = never;
+    EventKind kind_i = EventKind::none, kind_j = EventKind::none;
+    boundary_event(i, ci, best_i, kind_i);
+    boundary_event(j, cj, best_j, kind_j);
+
+    // Cells: i's neighbours in predict()'s order (tested against i, and
+    // against j where j's neighbourhood holds them too), then j's others.
+    std::array<std::uint32_t, 2 * CellGrid<D>::neighbour_count> cells;
+    std::array<std::uint8_t, 2 * CellGrid<D>::neighbour_count> masks;
+    int used = 0;
+    const std::uint32_t here_i = grid_.cell_of(i), here_j = grid_.cell_of(j);
+    for (int n = 0; n < CellGrid<D>::neighbour_count; ++n) {
+      bool shared = true;
+      for (int a = 0, rest = n; a < D; ++a, rest /= 3) {
+        const int reach = delta[a] + rest % 3 - 1;
+        shared = shared && reach >= -1 && reach <= 1;
+      }
+      cells[used] = static_cast<std::uint32_t>(static_cast<std::int32_t>(here_i) + grid_.neighbour_offset(n));
+      masks[used++] = shared ? 3 : 1;
+      grid_.prefetch_cell(cells[used - 1]);
+    }
+    for (int n = 0; n < CellGrid<D>::neighbour_count; ++n) {
+      bool shared = true;
+      for (int a = 0, rest = n; a < D; ++a, rest /= 3) {
+        const int reach = rest % 3 - 1 - delta[a];
+        shared = shared && reach >= -1 && reach <= 1;
+      }
+      if (shared) continue;
+      cells[used] = static_cast<std::uint32_t>(static_cast<std::int32_t>(here_j) + grid_.neighbour_offset(n));
+      masks[used++] = 2;
+      grid_.prefetch_cell(cells[used - 1]);
+    }
+    candidates_.clear();
+    for (int u = 0; u < used; ++u)
+      for (std::int32_t k = grid_.head(cells[u]); k >= 0; k = grid_.next(static_cast<std::uint32_t>(k))) {
+        __builtin_prefetch(&hot_[static_cast<std::size_t>(k)]);
+        candidates_.push_back({static_cast<std::uint32_t>(k), masks[u]});
+      }
+    const Vec<D> xi = hot_[i].x, vi = hot_[i].v, xj = hot_[j].x, vj = hot_[j].v;
+    const double ri = hot_[i].r, rj = hot_[j].r;
+    double collision_i = never, collision_j = never;
+    std::uint32_t partner_i = 0, partner_j = 0;
+    for (const auto [k, mask] : candidates_) {
+      const HotState& other = hot_[k];
+      const Vec<D> x = other.x + other.v * (now_ - other.t);
+      if ((mask & 1) && k != i) {
+        const double dt = contact_time<D>(x - xi, other.v - vi, ri + other.r);
+        if (now_ + dt < collision_i) {
+          collision_i = now_ + dt;
+          partner_i = k;
+        }
+      }
+      if ((mask & 2) && k != j) {
+        const double dt = contact_time<D>(x - xj, other.v - vj, rj + other.r);
+        if (now_ + dt < collision_j) {
+          collision_j = now_ + dt;
+          partner_j = k;
+        }
+      }
+    }
+    calendar_.schedule(i, conclude(i, best_i, kind_i, collision_i, partner_i));
+    calendar_.schedule(j, conclude(j, best_j, kind_j, collision_j, partner_j));
+  }
+
   // Finds particle i's earliest event; i must be at time now_.
   // Returns its time; records its kind and partner.
   // After a cell crossing through `entered_face` only the cells that have
@@ -377,26 +511,7 @@ class EventDrivenGas {
     const int fixed_axis = entered_face >= 0 ? entered_face / 2 : -1;
     const std::int32_t fixed_offset = entered_face >= 0 && entered_face % 2 == 1 ? 1 : -1;
 
-    for (int a = 0; a < D; ++a) {
-      const double v = vi[a];
-      if (v == 0.0) continue;
-      const bool upward = v > 0.0;
-      const bool at_wall = !box_.periodic[a] && (upward ? cell[a] == grid_.count(a) - 1 : cell[a] == 0);
-      double dt;
-      EventKind k;
-      if (at_wall) {
-        dt = ((upward ? box_.length[a] - ri : ri) - xi[a]) / v;
-        k = wall_kind(a);
-      } else {
-        dt = ((cell[a] + (upward ? 1 : 0)) * grid_.width(a) - xi[a]) / v;
-        k = crossing_kind(a, upward);
-      }
-      dt = std::max(dt, 0.0);
-      if (now_ + dt < best) {
-        best = now_ + dt;
-        kind = k;
-      }
-    }
+    boundary_event(i, cell, best, kind);
 
     // Gather the neighbours first and test them afterwards: the cell lists
     // are walked with cheap index loads, and the particle data of many
@@ -468,19 +583,7 @@ class EventDrivenGas {
         partner = j;
       }
     }
-    if (best_collision < never) {
-      plan_[i].collision_time = best_collision;
-      plan_[i].partner = partner;
-      plan_[i].partner_count = count_[partner];
-    } else {
-      plan_[i].collision_time = never;
-    }
-    if (best_collision <= best) {
-      best = best_collision;
-      kind = best < never ? EventKind::collision : EventKind::none;
-    }
-    event_kind_[i] = kind;
-    return best;
+    return conclude(i, best, kind, best_collision, partner);
   }
 
   void repredict(std::uint32_t i, int entered_face = -1) { calendar_.schedule(i, predict(i, entered_face)); }
@@ -497,8 +600,7 @@ class EventDrivenGas {
       }
       advance_particle(j);
       collide(i, j);
-      repredict(i);
-      repredict(j);
+      repredict_pair(i, j);
     } else if (kind < EventKind::crossing) {
       advance_particle(i);
       const int axis = static_cast<int>(kind) - static_cast<int>(EventKind::wall);
