@@ -26,7 +26,7 @@ Progress::Progress(std::string label, std::string rate_unit, bool enabled)
       last_print_(start_),
       interval_seconds_(terminal_ ? 0.25 : 5.0) {}
 
-void Progress::update(double fraction, double work) {
+void Progress::update(double fraction, double work, const std::string& detail) {
   if (!enabled_) return;
   const auto now = std::chrono::steady_clock::now();
   if (std::chrono::duration<double>(now - last_print_).count() < interval_seconds_) return;
@@ -35,8 +35,9 @@ void Progress::update(double fraction, double work) {
   fraction = std::clamp(fraction, 0.0, 1.0);
   const double rate = elapsed > 0 ? work / elapsed : 0.0;
   const double eta = fraction > 0 ? elapsed * (1.0 - fraction) / fraction : -1.0;
-  const std::string line = fmt::format("{}: {:5.1f}% | {:.3g} {} | elapsed {} | ETA {}", label_, 100.0 * fraction,
-                                       rate, rate_unit_, duration_text(elapsed), duration_text(eta));
+  const std::string line = fmt::format("{}: {:5.1f}%{} | {:.3g} {} | elapsed {} | ETA {}", label_, 100.0 * fraction,
+                                       detail.empty() ? "" : " (" + detail + ")", rate, rate_unit_,
+                                       duration_text(elapsed), duration_text(eta));
   if (terminal_)
     fmt::print(stderr, "\r{:<90}", line);
   else

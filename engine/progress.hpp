@@ -13,7 +13,8 @@ class Progress {
  public:
   Progress(std::string label, std::string rate_unit, bool enabled = true);
   // fraction in [0, 1]; work = cumulative count the rate is measured on.
-  void update(double fraction, double work);
+  // detail: shown after the percentage (e.g. "12/30 runs"); may be empty.
+  void update(double fraction, double work, const std::string& detail = "");
   void finish();
 
  private:

@@ -219,7 +219,9 @@ int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
             status[k] = outcome;
             const std::size_t finished_runs = ++done;
             progress.update(static_cast<double>(finished_runs) / static_cast<double>(todo.size()),
-                            static_cast<double>(finished_runs));
+                            static_cast<double>(finished_runs),
+                            fmt::format("{}/{} runs done", plan.runs.size() - todo.size() + finished_runs,
+                                        plan.runs.size()));
           }
         },
         tbb::simple_partitioner());
