@@ -40,7 +40,7 @@ bool finished(const SweepRun& run) {
 }
 
 // Last value of a scalar observable, or the attribute of that name on /observables.
-double summary_value(const H5mdReader& reader, const std::string& name) {
+double summary_value(const H5mdReader& reader, const std::string& name, const std::string& path) {
   const std::string dataset = "/observables/" + name + "/value";
   if (reader.exists(dataset)) {
     const auto array = reader.doubles(dataset);
@@ -54,8 +54,9 @@ double summary_value(const H5mdReader& reader, const std::string& name) {
     return reader.double_attribute("/observables", name);
   } catch (const H5Error&) {
     throw ConfigError(fmt::format("summary observable '{}' is neither /observables/{}/value nor an attribute of "
-                                  "/observables in {}",
-                                  name, name, reader.exists("/h5md") ? "the result file" : "?"));
+                                  "/observables in {} (see `granflow info`); the runs are kept, so fixing `summary` and rerunning "
+                                  "only rebuilds the tables",
+                                  name, name, path));
   }
 }
 
@@ -239,7 +240,7 @@ int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
       stop_reason[k] = reader.string_attribute("/observables", "stop_reason");
     } catch (const H5Error&) {
     }
-    for (std::size_t o = 0; o < plan.summary.size(); ++o) values[k][o] = summary_value(reader, plan.summary[o]);
+    for (std::size_t o = 0; o < plan.summary.size(); ++o) values[k][o] = summary_value(reader, plan.summary[o], plan.runs[k].output.string());
   }
   write_summary(plan, values, status, stop_reason);
   const auto failures = static_cast<std::size_t>(
