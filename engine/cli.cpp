@@ -31,6 +31,10 @@ int run_command(const std::string& file, const std::vector<std::string>& overrid
     for (const auto& s : all_scenarios()) known += (known.empty() ? "" : ", ") + s.name;
     throw ConfigError(fmt::format("unknown scenario '{}' in {}; known scenarios: {}", name, file, known));
   }
+  if (options.resume && !scenario->resumable)
+    throw ConfigError(fmt::format("--resume: scenario '{}' writes no checkpoints (its runs take seconds to minutes); "
+                                  "run it again without --resume",
+                                  name));
   Config config = Config::from_file(scenario->schema(), file);
   for (const auto& assignment : overrides) config.apply_override(assignment);
   std::optional<tbb::global_control> threads;

@@ -13,7 +13,7 @@ namespace granflow {
 const std::vector<ScenarioInfo>& all_scenarios() {
   static const std::vector<ScenarioInfo> all{
       {"haff_cooling", "homogeneous cooling of inelastic hard spheres/disks against Haff's law (EDMD)",
-       scenarios::haff_cooling_schema, scenarios::run_haff_cooling},
+       scenarios::haff_cooling_schema, scenarios::run_haff_cooling, true},
       {"speed_distribution", "relaxation of a one-speed gas to Maxwell-Boltzmann; speed histograms (EDMD)",
        scenarios::speed_distribution_schema, scenarios::run_speed_distribution},
       {"mixture", "two-mass gas: equipartition at xi = 1 and its breakdown at xi < 1 (EDMD)",

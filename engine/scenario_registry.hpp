@@ -24,6 +24,7 @@ struct ScenarioInfo {
   std::string summary;
   std::function<const ConfigSchema&()> schema;
   std::function<int(const Config&, const RunOptions&)> run;
+  bool resumable = false;  // writes checkpoints and continues from them with --resume
 };
 
 const std::vector<ScenarioInfo>& all_scenarios();

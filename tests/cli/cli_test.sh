@@ -84,6 +84,8 @@ expect_error "system.boundary must be periodic" run "$(dirname "$scenario")/brow
   --set system.boundary=reflecting -o "$work/x.h5"
 expect_error "'system.dimension' = 4 is out of range" run "$(dirname "$scenario")/udsbm_msd.toml" \
   --set system.dimension=4 -o "$work/x.h5"
+expect_error "--resume: scenario 'crater_impact' writes no checkpoints" run "$(dirname "$scenario")/crater_impact.toml" \
+  --resume -o "$work/x.h5"
 if [[ -e "$work/x.h5" || -e "$work/x.h5.partial" ]]; then
   echo "FAIL: a failed diffusion run left $work/x.h5 or its .partial"; failures=$((failures + 1))
 fi
