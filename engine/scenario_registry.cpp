@@ -25,9 +25,9 @@ const std::vector<ScenarioInfo>& all_scenarios() {
       {"brownian_edmd", "MSD, diffusivity and time-averaged MSD of the event-driven gas against Enskog theory",
        scenarios::brownian_edmd_schema, scenarios::run_brownian_edmd},
       {"langevin_msd", "ensemble and time-averaged MSD of underdamped Langevin particles (SDE; ergodic)",
-       scenarios::langevin_msd_schema, scenarios::run_sde_msd},
+       scenarios::langevin_msd_schema, scenarios::run_sde_msd, true},
       {"udsbm_msd", "ensemble and time-averaged MSD of underdamped scaled Brownian motion (SDE; not ergodic)",
-       scenarios::udsbm_msd_schema, scenarios::run_sde_msd},
+       scenarios::udsbm_msd_schema, scenarios::run_sde_msd, true},
   };
   return all;
 }

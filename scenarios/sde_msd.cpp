@@ -6,7 +6,8 @@
 // 2.45, 2.52, 2.55), or given directly. Several independent runs give the
 // standard error of the ensemble MSD; the time-averaged MSD (eq. 2.115) of a
 // subset of particles is accumulated on the fly by a multiple-tau
-// correlator, with the ergodicity-breaking parameter.
+// correlator, with the ergodicity-breaking parameter. Each finished run is
+// checkpointed (OUTPUT.checkpoint); --resume continues after the last one.
 //
 // Theory: the exact second-moment equations for the initial velocity
 // variance used (systems/sde/sde_theory.hpp), which are eq. 2.68 (Langevin)
@@ -18,12 +19,14 @@
 #include <spdlog/spdlog.h>
 
 #include <cmath>
+#include <filesystem>
 #include <optional>
 
 #include "components/clock.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
 #include "engine/h5md_file.hpp"
+#include "engine/h5md_reader.hpp"
 #include "engine/observable_store.hpp"
 #include "engine/profiler.hpp"
 #include "engine/progress.hpp"
@@ -112,8 +115,46 @@ sde::SdeModel sde_model_from(const Config& config) {
 
 namespace {
 
+// Saves the finished runs' series (atomically: written as .partial, renamed).
+void save_runs(const RunCheckpoint& checkpoint, const Config& config, std::size_t finished,
+               const std::vector<std::vector<double>>& msd, const std::vector<double>& lags,
+               const std::vector<std::vector<double>>& tamsd, const std::vector<std::vector<double>>& breaking) {
+  H5mdFile file(checkpoint.path, config.text("scenario") + " checkpoint");
+  file.write_parameters(config);
+  file.write_attribute("/checkpoint", "finished_runs", static_cast<double>(finished));
+  file.write_array("/checkpoint", "lags", lags);
+  for (std::size_t r = 0; r < finished; ++r) {
+    const std::string group = fmt::format("/checkpoint/run{}", r);
+    file.write_array(group, "msd", msd[r]);
+    file.write_array(group, "time_averaged_msd", tamsd[r]);
+    file.write_array(group, "ergodicity_breaking", breaking[r]);
+  }
+  file.finish();
+}
+
+std::size_t load_runs(const RunCheckpoint& checkpoint, const Config& config, std::vector<std::vector<double>>& msd,
+                      std::vector<double>& lags, std::vector<std::vector<double>>& tamsd,
+                      std::vector<std::vector<double>>& breaking) {
+  if (!std::filesystem::exists(checkpoint.path))
+    throw ConfigError(fmt::format("--resume: there is no checkpoint '{}' to resume from", checkpoint.path));
+  const H5mdReader reader(checkpoint.path);
+  if (reader.string_dataset("/parameters/toml") != config.to_toml())
+    throw ConfigError(fmt::format("--resume: checkpoint '{}' was written with a different configuration; resume with "
+                                  "the same file and --set options, or delete the checkpoint",
+                                  checkpoint.path));
+  const auto finished = static_cast<std::size_t>(reader.double_attribute("/checkpoint", "finished_runs"));
+  lags = reader.doubles("/checkpoint/lags").values;
+  for (std::size_t r = 0; r < finished && r < msd.size(); ++r) {
+    const std::string group = fmt::format("/checkpoint/run{}", r);
+    msd[r] = reader.doubles(group + "/msd").values;
+    tamsd[r] = reader.doubles(group + "/time_averaged_msd").values;
+    breaking[r] = reader.doubles(group + "/ergodicity_breaking").values;
+  }
+  return std::min(finished, msd.size());
+}
+
 template <int D>
-SdeMsdResult measure(const Config& config, bool show_progress) {
+SdeMsdResult measure(const Config& config, bool show_progress, const RunCheckpoint& checkpoint) {
   const sde::SdeModel model = sde_model_from(config);
   const auto count = static_cast<std::size_t>(config.integer("system.count"));
   const double dt = config.real("run.dt");
@@ -147,7 +188,12 @@ SdeMsdResult measure(const Config& config, bool show_progress) {
   std::vector<std::vector<double>> msd(runs), tamsd(runs), breaking(runs);
   std::vector<double> lags;
   Progress progress(config.text("scenario"), "particle-steps/s", show_progress);
-  for (std::size_t r = 0; r < runs; ++r) {
+  std::size_t first_run = 0;
+  if (checkpoint.resume) {
+    first_run = load_runs(checkpoint, config, msd, lags, tamsd, breaking);
+    spdlog::info("resuming from {}: {} of {} runs done", checkpoint.path, first_run, runs);
+  }
+  for (std::size_t r = first_run; r < runs; ++r) {
     // Run 0 keeps run.seed; the others get derived seeds.
     std::uint64_t seed = static_cast<std::uint64_t>(config.integer("run.seed"));
     if (r > 0) {
@@ -194,6 +240,7 @@ SdeMsdResult measure(const Config& config, bool show_progress) {
       tamsd[r] = result.msd;
       breaking[r] = result.ergodicity_breaking;
     }
+    if (!checkpoint.path.empty() && r + 1 < runs) save_runs(checkpoint, config, r + 1, msd, lags, tamsd, breaking);
   }
   progress.finish();
 
@@ -227,11 +274,11 @@ SdeMsdResult measure(const Config& config, bool show_progress) {
 
 }  // namespace
 
-SdeMsdResult measure_sde_msd(const Config& config, bool progress) {
+SdeMsdResult measure_sde_msd(const Config& config, bool progress, const RunCheckpoint& checkpoint) {
   switch (config.integer("system.dimension")) {
-    case 1: return measure<1>(config, progress);
-    case 2: return measure<2>(config, progress);
-    default: return measure<3>(config, progress);
+    case 1: return measure<1>(config, progress, checkpoint);
+    case 2: return measure<2>(config, progress, checkpoint);
+    default: return measure<3>(config, progress, checkpoint);
   }
 }
 
@@ -249,7 +296,8 @@ int run_sde_msd(const Config& config, const RunOptions& options) {
   file.write_attribute("/parameters/derived", "gamma0", model.gamma0);
   file.write_attribute("/parameters/derived", "diffusivity0", model.diffusivity0);
   file.write_attribute("/parameters/derived", "tau0", model.tau0);
-  const auto result = measure_sde_msd(config, options.progress);
+  const RunCheckpoint checkpoint{output_path + ".checkpoint", options.resume};
+  const auto result = measure_sde_msd(config, options.progress, checkpoint);
   file.write_attribute("/parameters/derived", "initial_velocity_variance", result.initial_velocity_variance);
   const auto dimension = static_cast<int>(config.integer("system.dimension"));
   const auto diffusivity = diffusivity_from_msd(result.time, result.msd, dimension);
@@ -277,6 +325,7 @@ int run_sde_msd(const Config& config, const RunOptions& options) {
   file.write_attribute("/observables", "largest_deviation_in_standard_errors", worst);
   file.write_attribute("/observables", "stop_reason", "reached run.t_stop");
   file.finish();
+  std::filesystem::remove(checkpoint.path);
   spdlog::info("MSD({}) = {:.5g} +- {:.2g} (theory {:.5g}); largest deviation from theory {:.2f} standard errors; "
                "wrote {}",
                result.time.back(), result.msd.back(), result.msd_stderr.back(), result.msd_theory.back(), worst,

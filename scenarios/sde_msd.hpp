@@ -1,6 +1,7 @@
 #pragma once
 // Scenarios `langevin_msd` and `udsbm_msd`: see scenarios/sde_msd.cpp.
 
+#include <string>
 #include <vector>
 
 #include "engine/config.hpp"
@@ -22,6 +23,13 @@ struct SdeMsdResult {
   std::vector<double> lag, time_averaged_msd, time_averaged_msd_stderr, ergodicity_breaking;
   double initial_velocity_variance = 0.0;  // per component
 };
-SdeMsdResult measure_sde_msd(const Config& config, bool progress = false);
+// With a checkpoint path, every finished run is saved there (runs are
+// independent, so an interrupted measurement loses at most the run in
+// progress); with `resume`, the runs saved there are taken instead of rerun.
+struct RunCheckpoint {
+  std::string path;  // empty: none
+  bool resume = false;
+};
+SdeMsdResult measure_sde_msd(const Config& config, bool progress = false, const RunCheckpoint& checkpoint = {});
 
 }  // namespace granflow::scenarios

@@ -112,6 +112,28 @@ for run, names in (("sde", ("msd", "msd_stderr", "time_averaged_msd", "ergodicit
 print("ok: langevin_msd and brownian_edmd identical on 1 and 2 threads")
 PY
 
+# An SDE measurement killed after some of its runs continues from them.
+sde_args=(--set run.runs=6 --set run.t_stop=10 --set system.count=2000 -q)
+"$granflow" run "$scenarios/langevin_msd.toml" "${sde_args[@]}" -o "$work/sde_ref.h5"
+"$granflow" run "$scenarios/langevin_msd.toml" "${sde_args[@]}" -o "$work/sde_cut.h5" &
+pid=$!
+for _ in $(seq 1 500); do [[ -e "$work/sde_cut.h5.checkpoint" ]] && break; sleep 0.02; done
+kill -9 "$pid" 2>/dev/null; wait "$pid" 2>/dev/null
+if [[ ! -e "$work/sde_cut.h5.checkpoint" ]]; then
+  echo "FAIL: langevin_msd wrote no checkpoint before it was killed"; failures=$((failures + 1))
+else
+  "$granflow" run "$scenarios/langevin_msd.toml" "${sde_args[@]}" -o "$work/sde_cut.h5" --resume \
+    || { echo "FAIL: langevin_msd --resume"; failures=$((failures + 1)); }
+  /usr/bin/python3 - "$work" <<'PY' || failures=$((failures + 1))
+import sys, h5py, numpy as np
+a, b = (h5py.File(f"{sys.argv[1]}/sde_{n}.h5", "r") for n in ("ref", "cut"))
+for name in ("msd", "msd_stderr", "time_averaged_msd", "ergodicity_breaking"):
+    if not np.array_equal(a[f"/observables/{name}/value"][()], b[f"/observables/{name}/value"][()]):
+        sys.exit(f"FAIL: resumed langevin_msd differs in {name}")
+print("ok: killed and resumed langevin_msd is identical to an uninterrupted run")
+PY
+fi
+
 # An interrupted run resumed from its checkpoint gives the same output as an
 # uninterrupted one, bit for bit.
 long=(--set system.count=30000 --set system.radius=0.008 --set run.t_stop=5 --set output.checkpoint_interval=0
