@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <map>
 #include <set>
 #include <sstream>
@@ -31,12 +32,24 @@ ConfigError plan_error(const std::string& file, const std::string& what) {
   return ConfigError(fmt::format("sweep file {}: {}", file, what));
 }
 
+// Leaves of a table in the order they are written in the file (toml++
+// iterates tables sorted by key).
+std::vector<std::pair<std::string, const toml::node*>> leaves_in_file_order(const toml::table& table) {
+  std::vector<std::pair<std::string, const toml::node*>> leaves;
+  collect_toml_leaves(table, "", leaves);
+  std::stable_sort(leaves.begin(), leaves.end(), [](const auto& a, const auto& b) {
+    const auto& pa = a.second->source().begin;
+    const auto& pb = b.second->source().begin;
+    return pa.line != pb.line ? pa.line < pb.line : pa.column < pb.column;
+  });
+  return leaves;
+}
+
 // Every key of `table` maps to an array of values.
 std::vector<std::pair<std::string, std::vector<std::string>>> value_lists(const toml::table& table,
                                                                         const std::string& section,
                                                                         const std::string& file) {
-  std::vector<std::pair<std::string, const toml::node*>> leaves;
-  collect_toml_leaves(table, "", leaves);
+  const auto leaves = leaves_in_file_order(table);
   std::vector<std::pair<std::string, std::vector<std::string>>> out;
   for (const auto& [key, node] : leaves) {
     const auto* array = node->as_array();
@@ -49,7 +62,7 @@ std::vector<std::pair<std::string, std::vector<std::string>>> value_lists(const 
   return out;
 }
 
-// Cartesian product of the [grid] axes, the first axis varying slowest.
+// Cartesian product of the [grid] axes, the first written varying slowest.
 std::vector<Assignment> grid_points(const toml::table* grid, const std::string& file) {
   std::vector<Assignment> points{{}};
   if (!grid) return points;
@@ -88,8 +101,7 @@ std::vector<Assignment> listed_points(const toml::array* list, const std::string
   for (const auto& element : *list) {
     const auto* table = element.as_table();
     if (!table) throw plan_error(file, "[[points]] entries must be tables of key = value");
-    std::vector<std::pair<std::string, const toml::node*>> leaves;
-    collect_toml_leaves(*table, "", leaves);
+    const auto leaves = leaves_in_file_order(*table);
     Assignment point;
     for (const auto& [key, node] : leaves) point.emplace_back(key, node_text(*node));
     points.push_back(std::move(point));

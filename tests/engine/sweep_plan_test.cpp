@@ -1,0 +1,88 @@
+// Sweep files: grid x zip x listed points in a defined order, fixed [set]
+// overrides, repeats with distinct reproducible seeds, output names, and
+// errors that name the problem.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "engine/sweep_plan.hpp"
+
+namespace granflow {
+namespace {
+
+std::string write_sweep(const std::string& name, const std::string& body) {
+  const auto dir = std::filesystem::temp_directory_path() / "granflow_sweep_plan_test";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / name) << "scenario_file = \"" << GRANFLOW_SOURCE_DIR << "/scenarios/haff_cooling.toml\"\n"
+                            << body;
+  return (dir / name).string();
+}
+
+TEST(SweepPlan, GridZipAndListCombineInOrder) {
+  const auto file = write_sweep("combined.toml", R"(
+repeats = 2
+output = "out"
+[set]
+"system.count" = 300
+[grid]
+collision.restitution = [0.9, 0.5]
+system.boundary = ["periodic", "reflecting"]
+[zip]
+"run.t_stop" = [1.0, 2.0]
+"output.first" = [0.1, 0.2]
+[[points]]
+"collision.contact_time" = 1e-6
+)");
+  const SweepPlan plan = read_sweep_plan(file);
+  EXPECT_EQ(plan.scenario, "haff_cooling");
+  ASSERT_EQ(plan.parameter_values.size(), 2u * 2u * 2u * 1u);
+  ASSERT_EQ(plan.runs.size(), 16u);
+  EXPECT_EQ(plan.swept_keys, (std::vector<std::string>{"collision.restitution", "system.boundary", "run.t_stop",
+                                                        "output.first", "collision.contact_time"}));
+  // The first grid axis written varies slowest, then the zip; file order, not key order.
+  EXPECT_EQ(plan.parameter_values[0], (std::vector<std::string>{"0.9", "periodic", "1", "0.1", "1e-06"}));
+  EXPECT_EQ(plan.parameter_values[1], (std::vector<std::string>{"0.9", "periodic", "2", "0.2", "1e-06"}));
+  EXPECT_EQ(plan.parameter_values[2], (std::vector<std::string>{"0.9", "reflecting", "1", "0.1", "1e-06"}));
+  EXPECT_EQ(plan.parameter_values[7], (std::vector<std::string>{"0.5", "reflecting", "2", "0.2", "1e-06"}));
+  const auto& last = plan.runs.back();
+  EXPECT_EQ(last.parameter_point, 7u);
+  EXPECT_EQ(last.repeat, 1u);
+  EXPECT_EQ(last.config.integer("system.count"), 300);
+  EXPECT_DOUBLE_EQ(last.config.real("collision.restitution"), 0.5);
+  EXPECT_EQ(last.config.text("system.boundary"), "reflecting");
+  EXPECT_EQ(last.output, std::filesystem::path("out") / "p007_r01.h5");
+  // Repeat 0 keeps the base seed; others differ from it and from each other, reproducibly.
+  std::set<std::int64_t> seeds;
+  for (const auto& run : plan.runs) {
+    EXPECT_EQ(run.config.integer("run.seed"), run.seed);
+    if (run.repeat == 0) EXPECT_EQ(run.seed, 1);
+    seeds.insert(run.seed);
+  }
+  EXPECT_EQ(seeds.size(), 2u);
+  EXPECT_EQ(repeat_seed(1, 1), read_sweep_plan(file).runs[1].seed);
+  EXPECT_NE(repeat_seed(1, 1), repeat_seed(1, 2));
+  EXPECT_NE(repeat_seed(1, 1), repeat_seed(2, 1));
+  EXPECT_GE(repeat_seed(1, 7), 0);
+}
+
+TEST(SweepPlan, ErrorsNameTheProblem) {
+  const auto expect_error = [](const std::string& body, const std::string& needle) {
+    try {
+      read_sweep_plan(write_sweep("bad.toml", body));
+      ADD_FAILURE() << "accepted: " << body;
+    } catch (const ConfigError& error) {
+      EXPECT_NE(std::string(error.what()).find(needle), std::string::npos) << error.what();
+    }
+  };
+  expect_error("[grid]\ncollision.restitution = [0.5, 2.0]\n", "'collision.restitution' = 2 is out of range");
+  expect_error("[zip]\na.b = [1, 2]\n", "unknown configuration key 'a.b'");
+  expect_error("repeats = 2\n[grid]\nrun.seed = [1, 2]\n", "run.seed is swept explicitly");
+  expect_error("summary = \"temperature\"\n", "summary must be an array");
+  expect_error("points = [1, 2]\n", "[[points]] entries must be tables");
+}
+
+}  // namespace
+}  // namespace granflow
