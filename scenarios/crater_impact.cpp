@@ -47,6 +47,7 @@
 #include "engine/run_control.hpp"
 #include "engine/schedule.hpp"
 #include "systems/edmd/event_driven_step.hpp"
+#include "systems/edmd/event_statistics_output.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/initial/melted_lattice.hpp"
 #include "systems/observables/collisions_per_particle.hpp"
@@ -205,10 +206,7 @@ int run_crater_impact(const Config& config, const RunOptions& options) {
   file.write_attribute("/observables", "stop_reason", control.stop ? control.reason : "reached run.t_stop");
   file.write_attribute("/observables", "initial_kinetic_energy", energy0);
   file.write_attribute("/observables", "final_kinetic_energy", energy);
-  file.write_attribute("/observables", "pair_dissipated_energy", stats.dissipated_energy);
-  file.write_attribute("/observables", "wall_dissipated_energy", stats.wall_dissipated_energy);
-  file.write_attribute("/observables", "pair_collisions", static_cast<double>(stats.pair_collisions));
-  file.write_attribute("/observables", "wall_collisions", static_cast<double>(stats.wall_collisions));
+  edmd::write_event_statistics(file, stats);
   file.write_profile(profiler.entries());
   file.finish();
   spdlog::info("t = {:.4g}: crater of {} disks, {:.3g} of the energy left, {} collisions; energy balance "

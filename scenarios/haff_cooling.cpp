@@ -20,6 +20,7 @@
 #include "scenarios/output_times.hpp"
 #include "systems/edmd/edmd_checkpoint.hpp"
 #include "systems/edmd/event_driven_step.hpp"
+#include "systems/edmd/event_statistics_output.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/edmd/kinetic_theory.hpp"
 #include "systems/observables/collisions_per_particle.hpp"
@@ -174,9 +175,7 @@ int run(const Config& config, const RunOptions& options) {
   if (config.text("output.positions") == "final")
     append_particle_frame<D>(file, world, world.resource<Clock>().step, gas.time());
   file.write_attribute("/observables", "stop_reason", control.stop ? control.reason : "reached run.t_stop");
-  file.write_attribute("/observables", "pair_collisions", static_cast<double>(stats.pair_collisions));
-  file.write_attribute("/observables", "wall_collisions", static_cast<double>(stats.wall_collisions));
-  file.write_attribute("/observables", "dissipated_energy", stats.dissipated_energy);
+  edmd::write_event_statistics(file, stats);
   file.write_profile(profiler.entries());
   file.finish();
   std::filesystem::remove(checkpoint_path);

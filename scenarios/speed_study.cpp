@@ -16,6 +16,7 @@
 #include "engine/schedule.hpp"
 #include "scenarios/speed_output.hpp"
 #include "systems/edmd/event_driven_step.hpp"
+#include "systems/edmd/event_statistics_output.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/observables/collisions_per_particle.hpp"
 #include "systems/observables/kinetic_energy.hpp"
@@ -170,9 +171,7 @@ int run(const Config& config, const RunOptions& options, const SpeedStudy& study
   if (config.text("output.positions") == "final")
     append_particle_frame<D>(file, world, world.resource<Clock>().step, gas.time());
   file.write_attribute("/observables", "stop_reason", control.stop ? control.reason : "reached the last snapshot or run.t_stop");
-  file.write_attribute("/observables", "pair_collisions", static_cast<double>(stats.pair_collisions));
-  file.write_attribute("/observables", "wall_collisions", static_cast<double>(stats.wall_collisions));
-  file.write_attribute("/observables", "dissipated_energy", stats.dissipated_energy + stats.wall_dissipated_energy);
+  edmd::write_event_statistics(file, stats);
   file.write_profile(profiler.entries());
   file.finish();
   if (options.profile) fmt::print("{}", profiler.table());
