@@ -23,7 +23,7 @@ const std::vector<ScenarioInfo>& all_scenarios() {
       {"crater_impact", "a heavy projectile hits a resting bed of disks; crater size and penetration (EDMD)",
        scenarios::crater_impact_schema, scenarios::run_crater_impact},
       {"brownian_edmd", "MSD, diffusivity and time-averaged MSD of the event-driven gas against Enskog theory",
-       scenarios::brownian_edmd_schema, scenarios::run_brownian_edmd},
+       scenarios::brownian_edmd_schema, scenarios::run_brownian_edmd, true},
       {"langevin_msd", "ensemble and time-averaged MSD of underdamped Langevin particles (SDE; ergodic)",
        scenarios::langevin_msd_schema, scenarios::run_sde_msd, true},
       {"udsbm_msd", "ensemble and time-averaged MSD of underdamped scaled Brownian motion (SDE; not ergodic)",

@@ -3,7 +3,8 @@
 // positions (periodic image counts), with the mean velocity removed at the
 // start, averaged over independent runs (standard error over runs), the
 // diffusivity from it (eqs. 4.1-4.2), and optionally the time-averaged MSD
-// of a subset sampled at a fixed interval.
+// of a subset sampled at a fixed interval. Every finished run is
+// checkpointed (OUTPUT.checkpoint); --resume reruns only the others.
 //
 // Theory: the Langevin (xi = 1, eq. 2.68) or UDSBM (xi < 1, eq. 2.113)
 // MSD with the Enskog D0 of eq. 2.52, gamma0 = T0/(m D0) (eq. 2.55) and Haff's
@@ -17,12 +18,16 @@
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <mutex>
 #include <optional>
 
 #include "components/clock.hpp"
 #include "components/image_count.hpp"
 #include "engine/h5md_file.hpp"
+#include "engine/h5md_reader.hpp"
 #include "engine/observable_store.hpp"
 #include "engine/profiler.hpp"
 #include "engine/progress.hpp"
@@ -139,7 +144,46 @@ RunSeries one_run(const Config& base, std::int64_t seed, const std::vector<doubl
 
 }  // namespace
 
-EdmdMsdResult measure_edmd_msd(const Config& config, bool show_progress) {
+// Every finished run, saved after each one finishes (atomically: written as
+// .partial and renamed), so an interruption loses only runs in progress.
+void save_runs(const RunCheckpoint& checkpoint, const Config& config, const std::vector<RunSeries>& series,
+               const std::vector<bool>& done) {
+  H5mdFile file(checkpoint.path, "brownian_edmd checkpoint");
+  file.write_parameters(config);
+  for (std::size_t r = 0; r < series.size(); ++r) {
+    if (!done[r] || series[r].collapsed) continue;
+    const std::string group = fmt::format("/checkpoint/run{}", r);
+    file.write_attribute(group, "initial_temperature", series[r].temperature0);
+    file.write_array(group, "msd", series[r].msd);
+    file.write_array(group, "lag", series[r].time_average.lag);
+    file.write_array(group, "time_averaged_msd", series[r].time_average.msd);
+    file.write_array(group, "ergodicity_breaking", series[r].time_average.ergodicity_breaking);
+  }
+  file.finish();
+}
+
+void load_runs(const RunCheckpoint& checkpoint, const Config& config, std::vector<RunSeries>& series,
+               std::vector<bool>& done) {
+  if (!std::filesystem::exists(checkpoint.path))
+    throw ConfigError(fmt::format("--resume: there is no checkpoint '{}' to resume from", checkpoint.path));
+  const H5mdReader reader(checkpoint.path);
+  if (reader.string_dataset("/parameters/toml") != config.to_toml())
+    throw ConfigError(fmt::format("--resume: checkpoint '{}' was written with a different configuration; resume with "
+                                  "the same file and --set options, or delete the checkpoint",
+                                  checkpoint.path));
+  for (std::size_t r = 0; r < series.size(); ++r) {
+    const std::string group = fmt::format("/checkpoint/run{}", r);
+    if (!reader.exists(group)) continue;
+    series[r].temperature0 = reader.double_attribute(group, "initial_temperature");
+    series[r].msd = reader.doubles(group + "/msd").values;
+    series[r].time_average.lag = reader.doubles(group + "/lag").values;
+    series[r].time_average.msd = reader.doubles(group + "/time_averaged_msd").values;
+    series[r].time_average.ergodicity_breaking = reader.doubles(group + "/ergodicity_breaking").values;
+    done[r] = true;
+  }
+}
+
+EdmdMsdResult measure_edmd_msd(const Config& config, bool show_progress, const RunCheckpoint& checkpoint) {
   if (config.integer("system.dimension") != 3)
     throw ConfigError("brownian_edmd: system.dimension must be 3 (the theory is that of seed 000's 3D gas)");
   if (config.text("system.boundary") != "periodic")
@@ -149,17 +193,29 @@ EdmdMsdResult measure_edmd_msd(const Config& config, bool show_progress) {
                                       static_cast<int>(config.integer("output.points_per_decade")));
   const auto runs = static_cast<std::size_t>(config.integer("run.runs"));
   std::vector<RunSeries> series(runs);
+  std::vector<bool> done(runs, false);
+  if (checkpoint.resume) {
+    load_runs(checkpoint, config, series, done);
+    spdlog::info("resuming from {}: {} of {} runs done", checkpoint.path, std::count(done.begin(), done.end(), true),
+                 runs);
+  }
   Progress progress("brownian_edmd", "runs/s", show_progress);
-  std::atomic<std::size_t> finished{0};
+  std::atomic<std::size_t> finished{static_cast<std::size_t>(std::count(done.begin(), done.end(), true))};
+  std::mutex saving;
   // Runs are independent worlds; each is a deterministic function of its seed.
   tbb::parallel_for(std::size_t{0}, runs, [&](std::size_t r) {
+    if (done[r]) return;
     // Run 0 keeps run.seed; the others get derived seeds.
     std::int64_t seed = config.integer("run.seed");
     if (r > 0) {
       const auto w = Philox(stream::run_seed, static_cast<std::uint64_t>(seed), 0, r).next_words();
       seed = static_cast<std::int64_t>(((static_cast<std::uint64_t>(w[0]) << 32) | w[1]) >> 1);
     }
-    series[r] = one_run(config, seed, times);
+    RunSeries result = one_run(config, seed, times);
+    std::lock_guard lock(saving);
+    series[r] = std::move(result);
+    done[r] = true;
+    if (!checkpoint.path.empty() && finished + 1 < runs) save_runs(checkpoint, config, series, done);
     progress.update(static_cast<double>(++finished) / static_cast<double>(runs), static_cast<double>(finished));
   });
   progress.finish();
@@ -218,9 +274,10 @@ int run_brownian_edmd(const Config& config, const RunOptions& options) {
   file.write_parameters(config);
   spdlog::info("brownian_edmd: N = {}, xi = {}, {} runs, seed = {}", config.integer("system.count"),
                config.real("collision.restitution"), config.integer("run.runs"), config.integer("run.seed"));
+  const RunCheckpoint checkpoint{output_path + ".checkpoint", options.resume};
   EdmdMsdResult r;
   try {
-    r = measure_edmd_msd(config, options.progress);
+    r = measure_edmd_msd(config, options.progress, checkpoint);
   } catch (const edmd::InelasticCollapse& error) {
     spdlog::error("{}", error.what());
     file.write_attribute("/observables", "stop_reason", error.what());
@@ -247,6 +304,7 @@ int run_brownian_edmd(const Config& config, const RunOptions& options) {
   file.write_attribute("/observables", "long_time_slope", r.long_time_slope);
   file.write_attribute("/observables", "stop_reason", "reached run.t_stop");
   file.finish();
+  std::filesystem::remove(checkpoint.path);
   spdlog::info("MSD({}) = {:.5g} +- {:.2g} (theory {:.5g}); slope over the last decade {:.4f} = {:.4f} x 6 D0 "
                "(Enskog); wrote {}",
                r.time.back(), r.msd.back(), r.msd_stderr.back(), r.msd_theory.back(), r.long_time_slope,

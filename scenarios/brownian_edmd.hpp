@@ -5,6 +5,7 @@
 
 #include "engine/config.hpp"
 #include "engine/scenario_registry.hpp"
+#include "scenarios/run_checkpoint.hpp"
 #include "systems/sde/sde_model.hpp"
 
 namespace granflow::scenarios {
@@ -20,6 +21,6 @@ struct EdmdMsdResult {
   double long_time_slope = 0.0;  // least-squares slope of the MSD over the last decade of times
 };
 // Every run (in parallel, one World each) of one configuration.
-EdmdMsdResult measure_edmd_msd(const Config& config, bool progress = false);
+EdmdMsdResult measure_edmd_msd(const Config& config, bool progress = false, const RunCheckpoint& checkpoint = {});
 
 }  // namespace granflow::scenarios

@@ -6,6 +6,7 @@
 
 #include "engine/config.hpp"
 #include "engine/scenario_registry.hpp"
+#include "scenarios/run_checkpoint.hpp"
 #include "systems/sde/sde_model.hpp"
 
 namespace granflow::scenarios {
@@ -23,13 +24,8 @@ struct SdeMsdResult {
   std::vector<double> lag, time_averaged_msd, time_averaged_msd_stderr, ergodicity_breaking;
   double initial_velocity_variance = 0.0;  // per component
 };
-// With a checkpoint path, every finished run is saved there (runs are
-// independent, so an interrupted measurement loses at most the run in
-// progress); with `resume`, the runs saved there are taken instead of rerun.
-struct RunCheckpoint {
-  std::string path;  // empty: none
-  bool resume = false;
-};
+// With a checkpoint path every finished run is saved there; with `resume`
+// the runs saved there are taken instead of rerun.
 SdeMsdResult measure_sde_msd(const Config& config, bool progress = false, const RunCheckpoint& checkpoint = {});
 
 }  // namespace granflow::scenarios

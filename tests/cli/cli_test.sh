@@ -134,6 +134,24 @@ print("ok: killed and resumed langevin_msd is identical to an uninterrupted run"
 PY
 fi
 
+# The same for brownian_edmd, whose runs go in parallel.
+edmd_args=(--set run.runs=4 --set run.t_stop=10 --set system.count=500 --set system.radius=0.03 -q)
+"$granflow" run "$scenarios/brownian_edmd.toml" "${edmd_args[@]}" -o "$work/bd_ref.h5"
+"$granflow" run "$scenarios/brownian_edmd.toml" "${edmd_args[@]}" -o "$work/bd_cut.h5" &
+pid=$!
+for _ in $(seq 1 500); do [[ -e "$work/bd_cut.h5.checkpoint" ]] && break; sleep 0.02; done
+kill -9 "$pid" 2>/dev/null; wait "$pid" 2>/dev/null
+"$granflow" run "$scenarios/brownian_edmd.toml" "${edmd_args[@]}" -o "$work/bd_cut.h5" \
+  $([[ -e "$work/bd_cut.h5.checkpoint" ]] && echo --resume) || { echo "FAIL: brownian_edmd resume"; failures=$((failures + 1)); }
+/usr/bin/python3 - "$work" <<'PY' || failures=$((failures + 1))
+import sys, h5py, numpy as np
+a, b = (h5py.File(f"{sys.argv[1]}/bd_{n}.h5", "r") for n in ("ref", "cut"))
+for name in ("msd", "msd_stderr", "time_averaged_msd"):
+    if not np.array_equal(a[f"/observables/{name}/value"][()], b[f"/observables/{name}/value"][()]):
+        sys.exit(f"FAIL: resumed brownian_edmd differs in {name}")
+print("ok: killed and resumed brownian_edmd is identical to an uninterrupted run")
+PY
+
 # An interrupted run resumed from its checkpoint gives the same output as an
 # uninterrupted one, bit for bit.
 long=(--set system.count=30000 --set system.radius=0.008 --set run.t_stop=5 --set output.checkpoint_interval=0
