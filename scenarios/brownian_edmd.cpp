@@ -103,11 +103,11 @@ RunSeries one_run(const Config& base, std::int64_t seed, const std::vector<doubl
   std::vector<double> buffer(tracked * D);
   const auto sample = [&] {
     // Particles are tracked by id; storage order changes when the engine re-sorts.
-    const auto& id = world.component<ParticleId>();
+    const UnwrappedPositions<D> unwrapped(world);
     for (std::size_t i = 0; i < world.size(); ++i)
-      if (id[i] < tracked) {
-        const Vec<D> u = unwrapped_position<D>(world, i);
-        for (int a = 0; a < D; ++a) buffer[id[i] * D + a] = u[a];
+      if (const std::uint32_t id = unwrapped.id(i); id < tracked) {
+        const Vec<D> u = unwrapped(i);
+        for (int a = 0; a < D; ++a) buffer[id * D + a] = u[a];
       }
     correlator->add(buffer.data());
   };

@@ -5,6 +5,7 @@
 // itself otherwise (free SDE particles). The sum has a fixed order, so the
 // result is the same on any thread count.
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -19,27 +20,42 @@
 
 namespace granflow {
 
+// Unwrapped positions and particle ids of a world, with the component and
+// resource lookups done once rather than per particle.
 template <int D>
-Vec<D> unwrapped_position(const World& world, std::size_t i) {
-  const Vec<D>& x = world.component<Position<D>>()[i];
-  if (!world.has_component<ImageCount<D>>()) return x;
-  const auto& box = world.resource<Box<D>>();
-  Vec<D> u = x;
-  for (int a = 0; a < D; ++a) u[a] += box.length[a] * world.component<ImageCount<D>>()[i][a];
-  return u;
-}
+class UnwrappedPositions {
+ public:
+  explicit UnwrappedPositions(const World& world)
+      : position_(world.component<Position<D>>().data()),
+        image_(world.has_component<ImageCount<D>>() ? world.component<ImageCount<D>>().data() : nullptr),
+        id_(world.has_component<ParticleId>() ? world.component<ParticleId>().data() : nullptr) {
+    if (image_)
+      for (int a = 0; a < D; ++a) length_[a] = world.resource<Box<D>>().length[a];
+  }
 
-// Storage index -> particle id (identity without a ParticleId component).
-inline std::uint32_t particle_id_of(const World& world, std::size_t i) {
-  return world.has_component<ParticleId>() ? world.component<ParticleId>()[i] : static_cast<std::uint32_t>(i);
-}
+  Vec<D> operator()(std::size_t i) const {
+    Vec<D> u = position_[i];
+    if (image_)
+      for (int a = 0; a < D; ++a) u[a] += length_[a] * image_[i][a];
+    return u;
+  }
+  // Storage index -> particle id (identity without a ParticleId component).
+  std::uint32_t id(std::size_t i) const { return id_ ? id_[i] : static_cast<std::uint32_t>(i); }
+
+ private:
+  const Vec<D>* position_;
+  const Eigen::Matrix<std::int32_t, D, 1>* image_;
+  const std::uint32_t* id_;
+  std::array<double, D> length_{};
+};
 
 template <int D>
 class MsdObserver : public System {
  public:
   // Takes the reference positions x(0) from the world as it is now.
   explicit MsdObserver(const World& world) : origin_(world.size()) {
-    for (std::size_t i = 0; i < world.size(); ++i) origin_[particle_id_of(world, i)] = unwrapped_position<D>(world, i);
+    const UnwrappedPositions<D> unwrapped(world);
+    for (std::size_t i = 0; i < world.size(); ++i) origin_[unwrapped.id(i)] = unwrapped(i);
   }
 
   std::string name() const override { return "observe_msd"; }
@@ -49,8 +65,9 @@ class MsdObserver : public System {
   void run(World& world) override { world.resource<ObservableStore>().set("msd", measure(world)); }
 
   double measure(const World& world) const {
+    const UnwrappedPositions<D> unwrapped(world);
     const double total = deterministic_sum(world.size(), [&](std::size_t i) {
-      return (unwrapped_position<D>(world, i) - origin_[particle_id_of(world, i)]).squaredNorm();
+      return (unwrapped(i) - origin_[unwrapped.id(i)]).squaredNorm();
     });
     return world.size() ? total / static_cast<double>(world.size()) : 0.0;
   }
