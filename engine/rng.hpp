@@ -65,4 +65,11 @@ class Philox {
   bool has_spare_normal_ = false;
 };
 
+// A seed derived from `base` for member `index` of a family (a repeat, a
+// run): 64 well-mixed bits, distinct for distinct (stream, base, index).
+inline std::uint64_t derived_seed(std::uint32_t stream, std::uint64_t base, std::uint64_t index) {
+  const auto words = Philox(stream, base, 0, index).next_words();
+  return (static_cast<std::uint64_t>(words[0]) << 32) | words[1];
+}
+
 }  // namespace granflow

@@ -114,9 +114,8 @@ std::vector<Assignment> listed_points(const toml::array* list, const std::string
 
 std::int64_t repeat_seed(std::int64_t base, std::size_t repeat) {
   if (repeat == 0) return base;
-  const auto words = Philox(stream::ensemble_seed, static_cast<std::uint64_t>(base), 0, repeat).next_words();
-  const std::uint64_t mixed = (static_cast<std::uint64_t>(words[0]) << 32) | words[1];
-  return static_cast<std::int64_t>(mixed >> 1);  // non-negative, as run.seed requires
+  // Non-negative, as run.seed requires.
+  return static_cast<std::int64_t>(derived_seed(stream::ensemble_seed, static_cast<std::uint64_t>(base), repeat) >> 1);
 }
 
 SweepPlan read_sweep_plan(const std::string& sweep_file, const std::string& output_directory) {

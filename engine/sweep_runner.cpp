@@ -15,6 +15,7 @@
 #include "engine/h5md_file.hpp"
 #include "engine/h5md_reader.hpp"
 #include "engine/progress.hpp"
+#include "engine/sample_statistics.hpp"
 #include "engine/scenario_registry.hpp"
 
 namespace granflow {
@@ -142,21 +143,12 @@ void write_summary(const SweepPlan& plan, const std::vector<std::vector<double>>
     summary[1].numbers.push_back(static_cast<double>(counted));
     for (std::size_t s = 0; s < plan.swept_keys.size(); ++s) summary[2 + s].texts.push_back(plan.parameter_values[p][s]);
     for (std::size_t o = 0; o < plan.summary.size(); ++o) {
-      double sum = 0.0, squares = 0.0;
-      std::size_t n = 0;
+      std::vector<double> samples;
       for (std::size_t k = 0; k < plan.runs.size(); ++k)
-        if (plan.runs[k].parameter_point == p && std::isfinite(values[k][o])) {
-          sum += values[k][o];
-          ++n;
-        }
-      const double mean = n ? sum / static_cast<double>(n) : std::nan("");
-      for (std::size_t k = 0; k < plan.runs.size(); ++k)
-        if (plan.runs[k].parameter_point == p && std::isfinite(values[k][o]))
-          squares += (values[k][o] - mean) * (values[k][o] - mean);
-      const double stderr_of_mean =
-          n >= 2 ? std::sqrt(squares / static_cast<double>(n - 1) / static_cast<double>(n)) : std::nan("");
+        if (plan.runs[k].parameter_point == p && std::isfinite(values[k][o])) samples.push_back(values[k][o]);
+      const auto [mean, error] = mean_and_standard_error(samples);
       summary[2 + plan.swept_keys.size() + 2 * o].numbers.push_back(mean);
-      summary[3 + plan.swept_keys.size() + 2 * o].numbers.push_back(stderr_of_mean);
+      summary[3 + plan.swept_keys.size() + 2 * o].numbers.push_back(error);
     }
   }
   write_csv(plan.directory / "summary.csv", summary);

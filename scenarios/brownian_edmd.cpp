@@ -31,8 +31,10 @@
 #include "engine/observable_store.hpp"
 #include "engine/profiler.hpp"
 #include "engine/progress.hpp"
+#include "engine/resume_checks.hpp"
 #include "engine/rng.hpp"
 #include "engine/run_control.hpp"
+#include "engine/sample_statistics.hpp"
 #include "engine/schedule.hpp"
 #include "engine/stream_ids.hpp"
 #include "scenarios/output_times.hpp"
@@ -164,13 +166,9 @@ void save_runs(const RunCheckpoint& checkpoint, const Config& config, const std:
 
 void load_runs(const RunCheckpoint& checkpoint, const Config& config, std::vector<RunSeries>& series,
                std::vector<bool>& done) {
-  if (!std::filesystem::exists(checkpoint.path))
-    throw ConfigError(fmt::format("--resume: there is no checkpoint '{}' to resume from", checkpoint.path));
+  require_checkpoint(checkpoint.path);
   const H5mdReader reader(checkpoint.path);
-  if (reader.string_dataset("/parameters/toml") != config.to_toml())
-    throw ConfigError(fmt::format("--resume: checkpoint '{}' was written with a different configuration; resume with "
-                                  "the same file and --set options, or delete the checkpoint",
-                                  checkpoint.path));
+  require_same_configuration(checkpoint.path, reader.string_dataset("/parameters/toml"), config);
   for (std::size_t r = 0; r < series.size(); ++r) {
     const std::string group = fmt::format("/checkpoint/run{}", r);
     if (!reader.exists(group)) continue;
@@ -206,11 +204,10 @@ EdmdMsdResult measure_edmd_msd(const Config& config, bool show_progress, const R
   tbb::parallel_for(std::size_t{0}, runs, [&](std::size_t r) {
     if (done[r]) return;
     // Run 0 keeps run.seed; the others get derived seeds.
-    std::int64_t seed = config.integer("run.seed");
-    if (r > 0) {
-      const auto w = Philox(stream::run_seed, static_cast<std::uint64_t>(seed), 0, r).next_words();
-      seed = static_cast<std::int64_t>(((static_cast<std::uint64_t>(w[0]) << 32) | w[1]) >> 1);
-    }
+    const std::int64_t base = config.integer("run.seed");
+    // Non-negative, as run.seed requires.
+    const std::int64_t seed =
+        r == 0 ? base : static_cast<std::int64_t>(derived_seed(stream::run_seed, static_cast<std::uint64_t>(base), r) >> 1);
     RunSeries result = one_run(config, seed, times);
     std::lock_guard lock(saving);
     series[r] = std::move(result);
@@ -232,13 +229,12 @@ EdmdMsdResult measure_edmd_msd(const Config& config, bool show_progress, const R
   std::vector<double> measured(times.begin() + 1, times.end());
   const auto theory = sde::moment_msd(out.enskog, t0 / config.real("system.mass"), measured);
   for (std::size_t k = 0; k < measured.size(); ++k) {
-    double sum = 0.0, squares = 0.0;
-    for (const auto& s : series) sum += s.msd[k];
-    const double mean = sum / static_cast<double>(runs);
-    for (const auto& s : series) squares += (s.msd[k] - mean) * (s.msd[k] - mean);
+    std::vector<double> samples;
+    for (const auto& s : series) samples.push_back(s.msd[k]);
+    const auto [mean, error] = mean_and_standard_error(samples);
     out.time.push_back(measured[k]);
     out.msd.push_back(mean);
-    out.msd_stderr.push_back(runs > 1 ? std::sqrt(squares / static_cast<double>(runs - 1) / runs) : std::nan(""));
+    out.msd_stderr.push_back(error);
     out.msd_theory.push_back(3.0 * theory[k]);
   }
   // Slope over the last decade (least squares).

@@ -15,6 +15,7 @@
 #include "engine/observable_store.hpp"
 #include "engine/profiler.hpp"
 #include "engine/progress.hpp"
+#include "engine/resume_checks.hpp"
 #include "engine/run_control.hpp"
 #include "engine/schedule.hpp"
 #include "scenarios/output_times.hpp"
@@ -88,13 +89,9 @@ int run(const Config& config, const RunOptions& options) {
   std::map<std::string, double> derived;
   std::optional<edmd::CheckpointContents> resumed;
   if (options.resume) {
-    if (!std::filesystem::exists(checkpoint_path))
-      throw ConfigError(fmt::format("--resume: there is no checkpoint '{}' to resume from", checkpoint_path));
+    require_checkpoint(checkpoint_path);
     resumed = edmd::read_checkpoint<D>(checkpoint_path, world, observables, derived_names);
-    if (resumed->configuration != config.to_toml())
-      throw ConfigError(fmt::format("--resume: checkpoint '{}' was written with a different configuration; resume "
-                                    "with the same file and --set options, or delete the checkpoint",
-                                    checkpoint_path));
+    require_same_configuration(checkpoint_path, resumed->configuration, config);
     world.emplace_resource<Box<D>>(edmd::box_from<D>(config));
     derived = resumed->derived;
     spdlog::info("resuming from {} at t = {:.6g}", checkpoint_path, resumed->clock.time);

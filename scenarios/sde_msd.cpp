@@ -30,8 +30,10 @@
 #include "engine/observable_store.hpp"
 #include "engine/profiler.hpp"
 #include "engine/progress.hpp"
+#include "engine/resume_checks.hpp"
 #include "engine/rng.hpp"
 #include "engine/run_control.hpp"
+#include "engine/sample_statistics.hpp"
 #include "engine/schedule.hpp"
 #include "engine/stream_ids.hpp"
 #include "scenarios/output_times.hpp"
@@ -135,13 +137,9 @@ void save_runs(const RunCheckpoint& checkpoint, const Config& config, std::size_
 std::size_t load_runs(const RunCheckpoint& checkpoint, const Config& config, std::vector<std::vector<double>>& msd,
                       std::vector<double>& lags, std::vector<std::vector<double>>& tamsd,
                       std::vector<std::vector<double>>& breaking) {
-  if (!std::filesystem::exists(checkpoint.path))
-    throw ConfigError(fmt::format("--resume: there is no checkpoint '{}' to resume from", checkpoint.path));
+  require_checkpoint(checkpoint.path);
   const H5mdReader reader(checkpoint.path);
-  if (reader.string_dataset("/parameters/toml") != config.to_toml())
-    throw ConfigError(fmt::format("--resume: checkpoint '{}' was written with a different configuration; resume with "
-                                  "the same file and --set options, or delete the checkpoint",
-                                  checkpoint.path));
+  require_same_configuration(checkpoint.path, reader.string_dataset("/parameters/toml"), config);
   const auto finished = static_cast<std::size_t>(reader.double_attribute("/checkpoint", "finished_runs"));
   lags = reader.doubles("/checkpoint/lags").values;
   for (std::size_t r = 0; r < finished && r < msd.size(); ++r) {
@@ -195,11 +193,8 @@ SdeMsdResult measure(const Config& config, bool show_progress, const RunCheckpoi
   }
   for (std::size_t r = first_run; r < runs; ++r) {
     // Run 0 keeps run.seed; the others get derived seeds.
-    std::uint64_t seed = static_cast<std::uint64_t>(config.integer("run.seed"));
-    if (r > 0) {
-      const auto w = Philox(stream::run_seed, seed, 0, r).next_words();
-      seed = (static_cast<std::uint64_t>(w[0]) << 32) | w[1];
-    }
+    const auto base = static_cast<std::uint64_t>(config.integer("run.seed"));
+    const std::uint64_t seed = r == 0 ? base : derived_seed(stream::run_seed, base, r);
     World world(count);
     world.add_component<Position<D>>().values.assign(count, Vec<D>::Zero());
     auto& velocity = world.add_component<Velocity<D>>();
@@ -244,13 +239,12 @@ SdeMsdResult measure(const Config& config, bool show_progress, const RunCheckpoi
   }
   progress.finish();
 
-  const auto mean_and_error = [&](const std::vector<std::vector<double>>& series, std::size_t k) {
-    double sum = 0.0, squares = 0.0;
-    for (const auto& s : series) sum += s[k];
-    const double mean = sum / static_cast<double>(series.size());
-    for (const auto& s : series) squares += (s[k] - mean) * (s[k] - mean);
-    const double n = static_cast<double>(series.size());
-    return std::pair{mean, n > 1 ? std::sqrt(squares / (n - 1) / n) : std::nan("")};
+  // Mean and standard error over runs of the k-th value of every run's series.
+  const auto mean_and_error = [](const std::vector<std::vector<double>>& series, std::size_t k) {
+    std::vector<double> samples;
+    for (const auto& s : series) samples.push_back(s[k]);
+    const auto [mean, error] = mean_and_standard_error(samples);
+    return std::pair{mean, error};
   };
   SdeMsdResult out;
   out.initial_velocity_variance = v2;
