@@ -9,7 +9,7 @@
 #include <sstream>
 #include <toml++/toml.h>
 
-#include "engine/toml_leaves.hpp"
+#include "engine/toml_reading.hpp"
 
 namespace granflow {
 
@@ -160,9 +160,7 @@ Config Config::from_toml_text(const ConfigSchema& schema, const std::string& tex
   try {
     table = toml::parse(text, origin);
   } catch (const toml::parse_error& error) {
-    std::ostringstream what;
-    what << error.description() << " (" << error.source() << ")";
-    throw ConfigError(fmt::format("cannot parse {}: {}", origin, what.str()));
+    throw toml_parse_failure(origin, error);
   }
   std::vector<std::pair<std::string, const toml::node*>> leaves;
   collect_toml_leaves(table, "", leaves);
@@ -304,14 +302,7 @@ std::string Config::to_toml() const {
 
 std::string scenario_name_of(const std::string& path) {
   if (!std::ifstream(path)) throw ConfigError(fmt::format("cannot open configuration file '{}'", path));
-  toml::table table;
-  try {
-    table = toml::parse_file(path);
-  } catch (const toml::parse_error& error) {
-    std::ostringstream what;
-    what << error.description() << " (" << error.source() << ")";
-    throw ConfigError(fmt::format("cannot parse {}: {}", path, what.str()));
-  }
+  const toml::table table = parse_toml_file(path, path);
   const auto name = table["scenario"].value<std::string>();
   if (!name) throw ConfigError(fmt::format("configuration file '{}' has no top-level key 'scenario'", path));
   return *name;

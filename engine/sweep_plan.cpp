@@ -12,7 +12,7 @@
 #include "engine/rng.hpp"
 #include "engine/scenario_registry.hpp"
 #include "engine/stream_ids.hpp"
-#include "engine/toml_leaves.hpp"
+#include "engine/toml_reading.hpp"
 
 namespace granflow {
 
@@ -119,14 +119,7 @@ std::int64_t repeat_seed(std::int64_t base, std::size_t repeat) {
 }
 
 SweepPlan read_sweep_plan(const std::string& sweep_file, const std::string& output_directory) {
-  toml::table table;
-  try {
-    table = toml::parse_file(sweep_file);
-  } catch (const toml::parse_error& error) {
-    std::ostringstream what;
-    what << error.description() << " (" << error.source() << ")";
-    throw ConfigError(fmt::format("cannot parse sweep file {}: {}", sweep_file, what.str()));
-  }
+  const toml::table table = parse_toml_file(sweep_file, "sweep file " + sweep_file);
   const std::set<std::string> known{"scenario_file", "output", "repeats", "summary", "set", "grid", "zip", "points"};
   for (const auto& [name, node] : table)
     if (!known.contains(std::string(name.str())))

@@ -39,6 +39,18 @@ def scenario_of(f):
     return value.decode() if isinstance(value, bytes) else str(value)
 
 
+def save(fig, output):
+    fig.tight_layout()
+    fig.savefig(output, dpi=120)
+    print(f"wrote {output}")
+
+
+def label_speed_axes(*axes):
+    for ax in axes:
+        ax.set_xlabel("speed v")
+        ax.set_ylabel("probability density")
+
+
 def plot_haff(f, output):
     time = f["/observables/temperature/time"][()]
     temperature = f["/observables/temperature/value"][()]
@@ -68,9 +80,7 @@ def plot_haff(f, output):
     bottom.axhline(1.0, color="k", lw=0.8)
     bottom.set_ylabel("T / Haff")
     bottom.set_xlabel("t")
-    fig.tight_layout()
-    fig.savefig(output, dpi=120)
-    print(f"wrote {output}")
+    save(fig, output)
 
 
 def text(value):
@@ -111,14 +121,10 @@ def plot_speed_distribution(files, output):
              for q in ("mean", "rms", "most_probable")]
     lines.append(f"$\chi^2$ = {float(stats['chi_square']):.1f} (0.999: {float(stats['chi_square_critical_0999']):.1f})")
     right.text(0.98, 0.6, "\n".join(lines), transform=right.transAxes, ha="right", fontsize=8)
-    for ax in (left, right):
-        ax.set_xlabel("speed v")
-        ax.set_ylabel("probability density")
+    label_speed_axes(left, right)
     right.legend(fontsize=8)
     fig.suptitle(f"speed distribution, {dim}D, N = {n}")
-    fig.tight_layout()
-    fig.savefig(output, dpi=120)
-    print(f"wrote {output}")
+    save(fig, output)
 
 
 def plot_mixture(files, output):
@@ -151,13 +157,10 @@ def plot_mixture(files, output):
         stats = draw_histogram(ax, f, f"speed_histogram_{name}", dim, "sampled", "C1")
         ax.set_title(f"{name} (m = {float(stats['mass']):g}): mean speed {float(stats['mean_speed']):.3f}, "
                      f"mean E {float(stats['mean_kinetic_energy']):.4f}", fontsize=9)
-        ax.set_xlabel("speed v")
-        ax.set_ylabel("probability density")
+        label_speed_axes(ax)
         ax.legend(fontsize=8)
     fig.suptitle(f"two-mass mixture, {dim}D, N = {int(f['/parameters/system'].attrs['count'])}")
-    fig.tight_layout()
-    fig.savefig(output, dpi=120)
-    print(f"wrote {output}")
+    save(fig, output)
 
 
 def plot_scattering(files, output):
@@ -171,9 +174,7 @@ def plot_scattering(files, output):
     xi = float(f["/parameters/collision"].attrs["restitution"])
     ax.set_title(f"scattering off a heavy disk, $\\xi$ = {xi:g}", fontsize=10)
     ax.legend()
-    fig.tight_layout()
-    fig.savefig(output, dpi=120)
-    print(f"wrote {output}")
+    save(fig, output)
 
 
 def plot_crater(files, output):
@@ -209,9 +210,7 @@ def plot_crater(files, output):
     e = f["/observables/kinetic_energy/value"][()]
     twin.semilogy(time, e / e[0], "C2", label="E / E0")
     twin.set_ylabel("kinetic energy / initial", color="C2")
-    fig.tight_layout()
-    fig.savefig(output, dpi=120)
-    print(f"wrote {output}")
+    save(fig, output)
 
 
 def plot_sweep(files, output, x_key=None, y_names=None, logx=False):
@@ -245,9 +244,7 @@ def plot_sweep(files, output, x_key=None, y_names=None, logx=False):
     scenario = text(f["/parameters"].attrs["swept_scenario"])
     axes[0, 0].set_title(f"{scenario} sweep: mean $\\pm$ standard error over {int(runs.max())} runs per point",
                          fontsize=10)
-    fig.tight_layout()
-    fig.savefig(output, dpi=120)
-    print(f"wrote {output}")
+    save(fig, output)
 
 
 def series(f, name):
@@ -288,9 +285,7 @@ def plot_msd(files, output):
         right.loglog(lag, np.maximum(eb, 1e-6), "^", ms=3, mfc="none", label="ergodicity breaking EB (against lag)")
     right.set_xlabel("t")
     right.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(output, dpi=120)
-    print(f"wrote {output}")
+    save(fig, output)
 
 
 PLOTTERS = {"haff_cooling": lambda files, output: plot_haff(files[0], output),
