@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "engine/sample_statistics.hpp"
 #include "scenarios/mixture.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/observables/species_kinetic_energy.hpp"
@@ -17,14 +18,9 @@
 namespace granflow::scenarios {
 namespace {
 
-struct Ratio {
-  double mean;
-  double standard_error;
-};
-
 // Heavy over light mean kinetic energy in `snapshots` snapshots, `between`
 // collisions per particle apart, starting now.
-Ratio energy_ratio(edmd::EventDrivenGas<2>& gas, World& world, int snapshots, double between) {
+MeanAndError energy_ratio(edmd::EventDrivenGas<2>& gas, World& world, int snapshots, double between) {
   std::vector<double> ratios;
   const auto start = gas.statistics().pair_collisions;
   for (int s = 1; s <= snapshots; ++s) {
@@ -35,11 +31,15 @@ Ratio energy_ratio(edmd::EventDrivenGas<2>& gas, World& world, int snapshots, do
     const auto energy = species_kinetic_energies<2>(world, 2);
     ratios.push_back(energy[1] / energy[0]);
   }
-  double mean = 0.0, squares = 0.0;
-  for (double r : ratios) mean += r;
-  mean /= static_cast<double>(ratios.size());
-  for (double r : ratios) squares += (r - mean) * (r - mean);
-  return {mean, std::sqrt(squares / static_cast<double>(ratios.size() - 1) / static_cast<double>(ratios.size()))};
+  return mean_and_standard_error(ratios);
+}
+
+// Runs `collisions_per_particle` more collisions per particle.
+void run_for(edmd::EventDrivenGas<2>& gas, const World& world, double collisions_per_particle) {
+  edmd::AdvanceLimits limits;
+  limits.max_pair_collisions = gas.statistics().pair_collisions +
+                               static_cast<std::uint64_t>(collisions_per_particle * static_cast<double>(world.size()) / 2);
+  gas.advance(INFINITY, limits);
 }
 
 Config mixture_config() {
@@ -57,10 +57,8 @@ TEST(Mixture, ElasticSpeciesShareTheKineticEnergy) {
   ASSERT_NEAR(start[1] / start[0], 4.0, 1e-12);
   edmd::EventDrivenGas<2> gas(world, edmd::collision_parameters_from(config));
   gas.start(0.0);
-  edmd::AdvanceLimits relax;
-  relax.max_pair_collisions = 10 * world.size() / 2;
-  gas.advance(INFINITY, relax);
-  const Ratio ratio = energy_ratio(gas, world, 20, 2.0);
+  run_for(gas, world, 10.0);
+  const MeanAndError ratio = energy_ratio(gas, world, 20, 2.0);
   std::printf("xi = 1: heavy/light mean kinetic energy %.4f +- %.4f\n", ratio.mean, ratio.standard_error);
   // 2000 particles per species: the ratio fluctuates by ~sqrt(2/2000)*sqrt(2) ~ 4 % per snapshot.
   EXPECT_LT(ratio.standard_error, 0.02);
@@ -75,9 +73,7 @@ TEST(Mixture, InelasticHeavySpeciesIsHotter) {
   {
     edmd::EventDrivenGas<2> elastic(world, edmd::collision_parameters_from(config));
     elastic.start(0.0);
-    edmd::AdvanceLimits relax;
-    relax.max_pair_collisions = 10 * world.size() / 2;
-    elastic.advance(INFINITY, relax);
+    run_for(elastic, world, 10.0);
     elastic.synchronize(elastic.time());
   }
   const auto equal = species_kinetic_energies<2>(world, 2);
@@ -85,10 +81,8 @@ TEST(Mixture, InelasticHeavySpeciesIsHotter) {
   config.set("collision.restitution", 0.8);
   edmd::EventDrivenGas<2> gas(world, edmd::collision_parameters_from(config));
   gas.start(0.0);
-  edmd::AdvanceLimits settle;
-  settle.max_pair_collisions = 5 * world.size() / 2;
-  gas.advance(INFINITY, settle);
-  const Ratio ratio = energy_ratio(gas, world, 10, 1.0);
+  run_for(gas, world, 5.0);
+  const MeanAndError ratio = energy_ratio(gas, world, 10, 1.0);
   std::printf("xi = 0.8: heavy/light mean kinetic energy %.4f +- %.4f\n", ratio.mean, ratio.standard_error);
   EXPECT_GT(ratio.mean - 1.0, 5.0 * ratio.standard_error) << "ratio " << ratio.mean << " +- " << ratio.standard_error;
   EXPECT_GT(ratio.mean, 1.1);
