@@ -85,7 +85,8 @@ RunSeries one_run(const Config& base, std::int64_t seed, const std::vector<doubl
   edmd::build_gas<D>(world, config);
   world.add_component<ImageCount<D>>().values.assign(world.size(), Eigen::Matrix<std::int32_t, D, 1>::Zero());
   RunSeries out;
-  out.temperature0 = 2.0 / D * total_kinetic_energy<D>(world) / static_cast<double>(world.size());
+  const double energy0 = total_kinetic_energy<D>(world);
+  out.temperature0 = 2.0 / D * energy0 / static_cast<double>(world.size());
   edmd::EventDrivenGas<D> gas(world, edmd::collision_parameters_from(config));
   gas.start(0.0);
   world.emplace_resource<Clock>();
@@ -94,8 +95,8 @@ RunSeries one_run(const Config& base, std::int64_t seed, const std::vector<doubl
   store.declare("msd");
   Profiler profiler;
   Schedule schedule(profiler);
-  schedule.emplace<edmd::EventDrivenStep<D>>(gas, edmd::advance_limits_from(config, world.size(), 0.0));
-  auto& msd = schedule.emplace<MsdObserver<D>>(world);
+  schedule.emplace<edmd::EventDrivenStep<D>>(gas, edmd::advance_limits_from(config, world.size(), energy0));
+  schedule.emplace<MsdObserver<D>>(world);
 
   const auto tracked =
       std::min<std::size_t>(world.size(), static_cast<std::size_t>(config.integer("msd.time_average_particles")));
@@ -135,7 +136,6 @@ RunSeries one_run(const Config& base, std::int64_t seed, const std::vector<doubl
       sample();
     }
   }
-  (void)msd;
   if (control.failed) {
     out.collapsed = true;
     out.message = control.reason;

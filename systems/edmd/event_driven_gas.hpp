@@ -522,9 +522,7 @@ class EventDrivenGas {
     std::array<std::uint32_t, CellGrid<D>::neighbour_count> cells;
     std::array<std::uint8_t, CellGrid<D>::neighbour_count> slots;
     int used = 0;
-    bool interior = true;
-    for (int a = 0; a < D && interior; ++a) interior = cell[a] >= 1 && cell[a] <= grid_.count(a) - 2;
-    if (interior) {
+    if (interior_cell(cell, grid_)) {
       // Away from the box faces every neighbour is a fixed offset away and
       // needs no periodic shift: the common case, without the general path's
       // per-axis wrapping. Same cells in the same order as the general path.
