@@ -14,7 +14,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "scenarios/haff_cooling.hpp"
+#include "tests/scenario_schema.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/edmd/kinetic_theory.hpp"
@@ -24,7 +24,7 @@ namespace {
 using namespace granflow;
 
 Config gas_config(std::int64_t count, double eta, double restitution) {
-  Config config(scenarios::haff_cooling_schema());
+  Config config(scenario_schema("haff_cooling"));
   config.set("system.count", count);
   config.set("system.radius", theory::radius_for_packing_fraction<3>(static_cast<double>(count), eta, 1.0));
   config.set("initial.velocity", std::string("maxwell_boltzmann"));
@@ -43,7 +43,7 @@ void Elastic(benchmark::State& state) {
   const auto count = state.range(0);
   const double eta = static_cast<double>(state.range(1)) / 1000.0;
   World world;
-  edmd::build_gas<3>(world, gas_config(count, eta, 1.0));
+  edmd::build_gas<3>(world, gas_config(count, eta, 1.0), 1);
   edmd::EventDrivenGas<3> gas(world, edmd::CollisionParameters{});
   gas.start(0.0);
   edmd::AdvanceLimits limits;
@@ -69,8 +69,8 @@ void Cooling(benchmark::State& state) {
   for (auto _ : state) {
     state.PauseTiming();
     World world;
-    edmd::build_gas<3>(world, gas_config(count, 0.065, 0.8));
-    edmd::EventDrivenGas<3> gas(world, edmd::collision_parameters_from(gas_config(count, 0.065, 0.8)));
+    edmd::build_gas<3>(world, gas_config(count, 0.065, 0.8), 1);
+    edmd::EventDrivenGas<3> gas(world, edmd::CollisionParameters::from(gas_config(count, 0.065, 0.8)));
     gas.start(0.0);
     const double energy0 = gas.kinetic_energy();
     edmd::AdvanceLimits limits;

@@ -13,7 +13,7 @@
 #include <chrono>
 #include <cstdlib>
 
-#include "scenarios/haff_cooling.hpp"
+#include "tests/scenario_schema.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/edmd/kinetic_theory.hpp"
 
@@ -30,12 +30,12 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "need N >= 2, 0 < PACKING_FRACTION < 0.35, COLLISIONS >= 1\n");
     return 2;
   }
-  Config config(scenarios::haff_cooling_schema());
+  Config config(scenario_schema("haff_cooling"));
   config.set("system.count", static_cast<std::int64_t>(count));
   config.set("system.radius", theory::radius_for_packing_fraction<3>(static_cast<double>(count), eta, 1.0));
   config.set("initial.velocity", std::string("maxwell_boltzmann"));
   World world;
-  edmd::build_gas<3>(world, config);
+  edmd::build_gas<3>(world, config, static_cast<std::uint64_t>(config.integer("run.seed")));
   edmd::EventDrivenGas<3> gas(world, edmd::CollisionParameters{});
   gas.start(0.0);
   edmd::AdvanceLimits limits;

@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
 #include <unistd.h>
@@ -12,48 +13,45 @@
 #include "engine/config.hpp"
 #include "engine/h5_handle.hpp"
 #include "engine/h5md_reader.hpp"
-#include "engine/scenario_registry.hpp"
+#include "engine/input_error.hpp"
+#include "engine/runner.hpp"
+#include "engine/scenario.hpp"
 #include "engine/sweep_plan.hpp"
 #include "engine/sweep_runner.hpp"
-#include "systems/initial/random_placement.hpp"
+#include "engine/version.hpp"
 
 namespace granflow {
 
 namespace {
 
-constexpr int exit_bad_input = 2;
+std::string known_scenarios() {
+  std::string known;
+  for (const auto* s : scenario_registry().all()) known += (known.empty() ? "" : ", ") + s->name;
+  return known;
+}
 
-int run_command(const std::string& file, const std::vector<std::string>& overrides, RunOptions options) {
+int run_command(const std::string& file, const std::vector<std::string>& overrides, const RunOptions& options,
+                int threads) {
   const std::string name = scenario_name_of(file);
-  const ScenarioInfo* scenario = find_scenario(name);
-  if (!scenario) {
-    std::string known;
-    for (const auto& s : all_scenarios()) known += (known.empty() ? "" : ", ") + s.name;
-    throw ConfigError(fmt::format("unknown scenario '{}' in {}; known scenarios: {}", name, file, known));
-  }
-  if (options.resume && !scenario->resumable)
-    throw ConfigError(fmt::format("--resume: scenario '{}' writes no checkpoints (its runs take seconds to minutes); "
-                                  "run it again without --resume",
-                                  name));
-  Config config = Config::from_file(scenario->schema(), file);
+  const Scenario* scenario = scenario_registry().find(name);
+  if (!scenario)
+    throw ConfigError(fmt::format("unknown scenario '{}' in {}; known scenarios: {}", name, file, known_scenarios()));
+  Config config = Config::from_file(scenario_registry().schema(name), file);
   for (const auto& assignment : overrides) config.apply_override(assignment);
-  std::optional<tbb::global_control> threads;
-  if (options.threads > 0)
-    threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
-  return scenario->run(config, options);
+  std::optional<tbb::global_control> limit;
+  if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  return run_scenario(*scenario, config, options);
 }
 
 void list_command() {
   fmt::print("scenarios:\n");
-  for (const auto& s : all_scenarios()) fmt::print("  {:<28} {}\n", s.name, s.summary);
-  fmt::print("systems:\n");
-  for (const auto& s : systems_catalogue()) fmt::print("  {:<32} {}\n", s.name, s.summary);
+  for (const auto* s : scenario_registry().all()) fmt::print("  {:<28} {}\n", s->name, s->summary);
 }
 
 void keys_command(const std::string& name) {
-  const ScenarioInfo* scenario = find_scenario(name);
-  if (!scenario) throw ConfigError(fmt::format("unknown scenario '{}' (see `granflow list`)", name));
-  for (const auto& spec : scenario->schema().keys())
+  if (!scenario_registry().find(name))
+    throw ConfigError(fmt::format("unknown scenario '{}'; known scenarios: {}", name, known_scenarios()));
+  for (const auto& spec : scenario_registry().schema(name).keys())
     fmt::print("{:<40} = {:<22} # {}; {}\n", spec.key, to_string(spec.default_value), spec.help, spec.allowed());
 }
 
@@ -84,24 +82,30 @@ void info_command(const std::string& path) {
 
 }  // namespace
 
-int command_line_main(int argc, char** argv) {
+int main(int argc, char** argv) {
+  link_builtin_scenarios();
+  // Messages go to standard error; standard output carries only what was asked for (tables, lists).
+  if (!spdlog::get("granflow")) spdlog::set_default_logger(spdlog::stderr_color_mt("granflow"));
   spdlog::set_pattern("[%H:%M:%S] %^%l%$: %v");
   CLI::App app{"granflow: simulation of granular gases and flows"};
+  app.set_version_flag("--version", version_text());
   app.require_subcommand(1);
 
   std::string file;
   std::vector<std::string> overrides;
   RunOptions options;
+  int threads = 0;
   bool quiet = false;
   auto* run = app.add_subcommand("run", "run a scenario from a TOML file");
   run->add_option("file", file, "scenario configuration (.toml)")->required();
   run->add_option("--set", overrides, "override a key: section.key=value (repeatable)");
   run->add_option("-o,--output", options.output_path, "output file (H5MD)");
-  run->add_option("--threads", options.threads, "worker threads (default: all cores)")->check(CLI::Range(1, 4096));
+  run->add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::Range(1, 4096));
   run->add_flag("--profile", options.profile, "print per-system timings (always stored under /profile)");
   run->add_flag("-q,--quiet", quiet, "no progress or info messages");
   run->add_flag("--resume", options.resume,
-                "continue an interrupted run from OUTPUT.checkpoint (same configuration and --set options)");
+                "continue from OUTPUT.checkpoint: an interrupted run, or a finished one with a later stop "
+                "(keys that change the physics must match)");
 
   std::string sweep_file;
   std::string sweep_output;
@@ -113,7 +117,7 @@ int command_line_main(int argc, char** argv) {
   sweep->add_option("-o,--output", sweep_output, "result directory (default: the file's `output`)");
   sweep->add_flag("-q,--quiet", quiet, "no progress or info messages");
 
-  auto* list = app.add_subcommand("list", "list scenarios and systems");
+  auto* list = app.add_subcommand("list", "list the scenarios");
   std::string info_path;
   auto* info = app.add_subcommand("info", "describe a result file");
   info->add_option("file", info_path, "H5MD result file")->required();
@@ -132,7 +136,7 @@ int command_line_main(int argc, char** argv) {
     if (*run) {
       if (quiet) spdlog::set_level(spdlog::level::warn);
       options.progress = !quiet;
-      return run_command(file, overrides, options);
+      return run_command(file, overrides, options, threads);
     }
     if (*sweep) {
       if (quiet) spdlog::set_level(spdlog::level::warn);
@@ -143,12 +147,12 @@ int command_line_main(int argc, char** argv) {
     if (*info) info_command(info_path);
     if (*keys) keys_command(keys_name);
     return 0;
-  } catch (const ConfigError& error) {
+  } catch (const InputError& error) {
     spdlog::error("{}", error.what());
     return exit_bad_input;
-  } catch (const PlacementError& error) {
+  } catch (const PhysicsFailure& error) {
     spdlog::error("{}", error.what());
-    return exit_bad_input;
+    return exit_physics_failed;
   } catch (const std::invalid_argument& error) {
     spdlog::error("{}", error.what());
     return exit_bad_input;

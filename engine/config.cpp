@@ -59,6 +59,12 @@ ConfigValue from_toml_node(const KeySpec& spec, const toml::node& node) {
                                 shown.str()));
 }
 
+std::string trimmed(const std::string& text) {
+  const auto first = text.find_first_not_of(" \t");
+  if (first == std::string::npos) return "";
+  return text.substr(first, text.find_last_not_of(" \t") - first + 1);
+}
+
 ConfigValue from_text(const KeySpec& spec, std::string text) {
   const auto fail = [&] {
     return ConfigError(
@@ -68,8 +74,14 @@ ConfigValue from_text(const KeySpec& spec, std::string text) {
     case ValueType::integer: {
       std::int64_t value = 0;
       const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-      if (ec != std::errc() || end != text.data() + text.size() || text.empty()) throw fail();
-      return value;
+      if (ec == std::errc() && end == text.data() + text.size() && !text.empty()) return value;
+      // 1e6 and 2.5e3 name integers too.
+      double real = 0;
+      const auto [real_end, real_ec] = std::from_chars(text.data(), text.data() + text.size(), real);
+      if (real_ec != std::errc() || real_end != text.data() + text.size() || text.empty() || real != std::floor(real) ||
+          std::abs(real) > 9.007199254740992e15)
+        throw fail();
+      return static_cast<std::int64_t>(real);
     }
     case ValueType::real: {
       double value = 0;
@@ -144,6 +156,15 @@ ConfigSchema& ConfigSchema::text(const std::string& key, const std::string& def,
   return add({key, ValueType::string, def, 0, 0, false, {}, help});
 }
 
+ConfigSchema& ConfigSchema::allow_change_on_resume(const std::string& key) {
+  for (auto& spec : keys_)
+    if (spec.key == key) {
+      spec.resume_may_change = true;
+      return *this;
+    }
+  throw std::logic_error("allow_change_on_resume: no key " + key);
+}
+
 const KeySpec* ConfigSchema::find(const std::string& key) const {
   for (const auto& spec : keys_)
     if (spec.key == key) return &spec;
@@ -189,8 +210,8 @@ void Config::apply_override(const std::string& assignment) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw ConfigError(fmt::format("--set expects section.key=value, got '{}'", assignment));
-  const std::string key = assignment.substr(0, eq);
-  set(key, from_text(spec(key), assignment.substr(eq + 1)));
+  const std::string key = trimmed(assignment.substr(0, eq));
+  set(key, from_text(spec(key), trimmed(assignment.substr(eq + 1))));
 }
 
 void Config::set(const std::string& key, const ConfigValue& value) {
@@ -297,6 +318,19 @@ std::string Config::to_toml() const {
     out += "\n[" + section + "]\n";
     for (const auto& [name, value] : entries) out += name + " = " + value + "\n";
   }
+  return out;
+}
+
+std::vector<std::string> Config::resume_conflicts(const Config& other) const {
+  std::vector<std::string> out;
+  for (const auto& [key, value] : values_) {
+    const KeySpec& s = spec(key);
+    if (s.resume_may_change || key.rfind("output.", 0) == 0) continue;
+    const auto it = other.values_.find(key);
+    if (it == other.values_.end() || it->second != value) out.push_back(key);
+  }
+  for (const auto& [key, value] : other.values_)
+    if (!values_.count(key)) out.push_back(key);
   return out;
 }
 

@@ -12,11 +12,13 @@
 #include <variant>
 #include <vector>
 
+#include "engine/input_error.hpp"
+
 namespace granflow {
 
-class ConfigError : public std::runtime_error {
+class ConfigError : public InputError {
  public:
-  using std::runtime_error::runtime_error;
+  using InputError::InputError;
 };
 
 using ConfigValue = std::variant<std::int64_t, double, bool, std::string>;
@@ -33,6 +35,9 @@ struct KeySpec {
   std::vector<std::string> choices;
   std::string help;
   bool allow_infinite = false;  // +inf accepted, meaning "no limit"
+  // A resumed run may use another value (a stop criterion, an output
+  // setting); every other key must match the checkpoint's.
+  bool resume_may_change = false;
 
   std::string allowed() const;  // human-readable range or choice list
 };
@@ -51,6 +56,9 @@ class ConfigSchema {
   ConfigSchema& choice(const std::string& key, const std::string& def, std::vector<std::string> choices,
                        const std::string& help);
   ConfigSchema& text(const std::string& key, const std::string& def, const std::string& help);
+
+  // Keys under output.* may always change on resume.
+  ConfigSchema& allow_change_on_resume(const std::string& key);
 
   const KeySpec* find(const std::string& key) const;
   const std::vector<KeySpec>& keys() const { return keys_; }
@@ -81,6 +89,8 @@ class Config {
   const std::map<std::string, ConfigValue>& values() const { return values_; }
   const ConfigSchema& schema() const { return *schema_; }
   std::string to_toml() const;
+  // Keys whose values differ from `other`'s and may not change on resume.
+  std::vector<std::string> resume_conflicts(const Config& other) const;
 
  private:
   const KeySpec& spec(const std::string& key) const;

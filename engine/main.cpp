@@ -1,3 +1,3 @@
 #include "engine/cli.hpp"
 
-int main(int argc, char** argv) { return granflow::command_line_main(argc, argv); }
+int main(int argc, char** argv) { return granflow::main(argc, argv); }

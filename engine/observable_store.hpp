@@ -21,9 +21,6 @@ class ObservableStore {
  public:
   static constexpr const char* key = "observables";
 
-  // Access key a system declares to read or write one observable.
-  static std::string access_key(const std::string& name) { return "observable:" + name; }
-
   void declare(const std::string& name) { slots_[name]; }
   ObservableSlot& slot(const std::string& name) {
     auto it = slots_.find(name);
@@ -40,7 +37,9 @@ class ObservableStore {
     s.value = std::move(value);
     s.fresh = true;
   }
+  bool declared(const std::string& name) const { return slots_.count(name) != 0; }
   std::map<std::string, ObservableSlot>& slots() { return slots_; }
+  const std::map<std::string, ObservableSlot>& slots() const { return slots_; }
 
  private:
   std::map<std::string, ObservableSlot> slots_;

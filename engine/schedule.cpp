@@ -1,28 +1,15 @@
 #include "engine/schedule.hpp"
 
-#include <algorithm>
 #include <tbb/flow_graph.h>
 
 namespace granflow {
-
-namespace {
-bool contains(const std::vector<std::string>& keys, const std::string& key) {
-  return std::find(keys.begin(), keys.end(), key) != keys.end();
-}
-bool writes_touch(const Access& writer, const Access& other) {
-  for (const auto& key : writer.writes)
-    if (contains(other.reads, key) || contains(other.writes, key)) return true;
-  return false;
-}
-}  // namespace
-
-bool accesses_conflict(const Access& a, const Access& b) { return writes_touch(a, b) || writes_touch(b, a); }
 
 struct Schedule::Graph {
   tbb::flow::graph graph;
   tbb::flow::broadcast_node<tbb::flow::continue_msg> start{graph};
   std::vector<std::unique_ptr<tbb::flow::continue_node<tbb::flow::continue_msg>>> nodes;
   std::vector<std::pair<std::size_t, std::size_t>> edges;
+  bool chain = true;
 };
 
 Schedule::Schedule(Profiler& profiler) : profiler_(profiler) {}
@@ -35,7 +22,7 @@ System& Schedule::add(std::unique_ptr<System> system) {
   return *systems_.back();
 }
 
-void Schedule::build() {
+void Schedule::build() const {
   graph_ = std::make_unique<Graph>();
   const std::size_t count = systems_.size();
   std::vector<Access> accesses;
@@ -52,12 +39,15 @@ void Schedule::build() {
         if (reach[earlier][k]) reach[later][k] = true;
     }
   }
+  for (std::size_t k = 1; k < count; ++k)
+    if (!reach[k][k - 1]) graph_->chain = false;
+  if (graph_->chain) return;
 
+  auto* self = const_cast<Schedule*>(this);
   for (std::size_t k = 0; k < count; ++k) {
     graph_->nodes.push_back(std::make_unique<tbb::flow::continue_node<tbb::flow::continue_msg>>(
-        graph_->graph, [this, k](const tbb::flow::continue_msg&) {
-          ScopedTimer timer(profiler_, profile_slots_[k]);
-          systems_[k]->run(*current_world_);
+        graph_->graph, [self, k](const tbb::flow::continue_msg&) {
+          if (!self->enabled_ || (*self->enabled_)[k]) self->run_one(k, *self->current_world_);
         }));
   }
   std::vector<bool> has_predecessor(count, false);
@@ -69,17 +59,47 @@ void Schedule::build() {
     if (!has_predecessor[k]) tbb::flow::make_edge(graph_->start, *graph_->nodes[k]);
 }
 
+void Schedule::run_one(std::size_t k, World& world) {
+  ScopedTimer timer(profiler_, profile_slots_[k]);
+  systems_[k]->run(world);
+}
+
 void Schedule::run(World& world) {
   if (!graph_) build();
+  if (graph_->chain) {
+    for (std::size_t k = 0; k < systems_.size(); ++k) run_one(k, world);
+    return;
+  }
   current_world_ = &world;
+  enabled_ = nullptr;
   graph_->start.try_put(tbb::flow::continue_msg{});
   graph_->graph.wait_for_all();
   current_world_ = nullptr;
 }
 
+void Schedule::run(World& world, const std::vector<bool>& enabled) {
+  if (!graph_) build();
+  if (graph_->chain) {
+    for (std::size_t k = 0; k < systems_.size(); ++k)
+      if (enabled[k]) run_one(k, world);
+    return;
+  }
+  current_world_ = &world;
+  enabled_ = &enabled;
+  graph_->start.try_put(tbb::flow::continue_msg{});
+  graph_->graph.wait_for_all();
+  current_world_ = nullptr;
+  enabled_ = nullptr;
+}
+
 std::vector<std::pair<std::size_t, std::size_t>> Schedule::edges() const {
-  if (!graph_) const_cast<Schedule*>(this)->build();
+  if (!graph_) build();
   return graph_->edges;
+}
+
+bool Schedule::sequential() const {
+  if (!graph_) build();
+  return graph_->chain;
 }
 
 }  // namespace granflow

@@ -1,8 +1,10 @@
 #pragma once
-// Turns a scenario's systems into a oneTBB flow graph. Edges come only from
-// the declared accesses: a later system waits for an earlier one when either
+// Turns a list of systems into a oneTBB flow graph. Edges come only from the
+// declared accesses: a later system waits for an earlier one when either
 // writes something the other touches; systems with disjoint needs may run
-// concurrently.
+// concurrently. When the edges chain every system to the next (the usual
+// time step: each system needs the previous one's result), the graph is run
+// as a plain loop instead, which costs nothing per step.
 
 #include <memory>
 #include <string>
@@ -33,23 +35,28 @@ class Schedule {
 
   // Runs every system once, in graph order.
   void run(World& world);
+  // Runs the systems whose `enabled` entry is true (in graph order); the
+  // others are skipped and not counted.
+  void run(World& world, const std::vector<bool>& enabled);
 
   // (earlier, later) index pairs of the derived edges, after transitive reduction.
   std::vector<std::pair<std::size_t, std::size_t>> edges() const;
+  // True when the systems form one dependent chain and run as a plain loop.
+  bool sequential() const;
   const std::vector<std::unique_ptr<System>>& systems() const { return systems_; }
+  std::size_t size() const { return systems_.size(); }
 
  private:
-  void build();
+  void build() const;
+  void run_one(std::size_t k, World& world);
 
   struct Graph;
   Profiler& profiler_;
   std::vector<std::unique_ptr<System>> systems_;
   std::vector<std::size_t> profile_slots_;
-  std::unique_ptr<Graph> graph_;
+  mutable std::unique_ptr<Graph> graph_;
   World* current_world_ = nullptr;
+  const std::vector<bool>* enabled_ = nullptr;
 };
-
-// True when two systems may not run at the same time.
-bool accesses_conflict(const Access& a, const Access& b);
 
 }  // namespace granflow

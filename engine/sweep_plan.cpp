@@ -10,7 +10,8 @@
 #include <toml++/toml.h>
 
 #include "engine/rng.hpp"
-#include "engine/scenario_registry.hpp"
+#include "engine/runner.hpp"
+#include "engine/scenario.hpp"
 #include "engine/stream_ids.hpp"
 #include "engine/toml_reading.hpp"
 
@@ -113,9 +114,7 @@ std::vector<Assignment> listed_points(const toml::array* list, const std::string
 }  // namespace
 
 std::int64_t repeat_seed(std::int64_t base, std::size_t repeat) {
-  if (repeat == 0) return base;
-  // Non-negative, as run.seed requires.
-  return static_cast<std::int64_t>(derived_seed(stream::ensemble_seed, static_cast<std::uint64_t>(base), repeat) >> 1);
+  return static_cast<std::int64_t>(member_seed(base, repeat));
 }
 
 SweepPlan read_sweep_plan(const std::string& sweep_file, const std::string& output_directory) {
@@ -132,7 +131,7 @@ SweepPlan read_sweep_plan(const std::string& sweep_file, const std::string& outp
   if (!scenario_file) throw plan_error(sweep_file, "needs scenario_file = \"<scenario>.toml\"");
   plan.scenario_file = std::filesystem::path(sweep_file).parent_path() / *scenario_file;
   plan.scenario = scenario_name_of(plan.scenario_file.string());
-  const ScenarioInfo* scenario = find_scenario(plan.scenario);
+  const Scenario* scenario = scenario_registry().find(plan.scenario);
   if (!scenario) throw plan_error(sweep_file, fmt::format("unknown scenario '{}'", plan.scenario));
 
   plan.directory = !output_directory.empty() ? std::filesystem::path(output_directory)
@@ -156,7 +155,7 @@ SweepPlan read_sweep_plan(const std::string& sweep_file, const std::string& outp
     throw plan_error(sweep_file, "summary must be an array of observable names");
   }
 
-  Config base = Config::from_file(scenario->schema(), plan.scenario_file.string());
+  Config base = Config::from_file(scenario_registry().schema(scenario->name), plan.scenario_file.string());
   if (const auto* fixed = table["set"].as_table()) {
     std::vector<std::pair<std::string, const toml::node*>> leaves;
     collect_toml_leaves(*fixed, "", leaves);

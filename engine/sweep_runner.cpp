@@ -16,7 +16,8 @@
 #include "engine/h5md_reader.hpp"
 #include "engine/progress.hpp"
 #include "engine/sample_statistics.hpp"
-#include "engine/scenario_registry.hpp"
+#include "engine/runner.hpp"
+#include "engine/scenario.hpp"
 
 namespace granflow {
 
@@ -166,7 +167,7 @@ void write_summary(const SweepPlan& plan, const std::vector<std::vector<double>>
 }  // namespace
 
 int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
-  const ScenarioInfo* scenario = find_scenario(plan.scenario);
+  const Scenario* scenario = scenario_registry().find(plan.scenario);
   if (!scenario) throw ConfigError(fmt::format("unknown scenario '{}'", plan.scenario));
   std::filesystem::create_directories(plan.directory);
 
@@ -199,9 +200,10 @@ int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
             RunOptions run_options;
             run_options.output_path = plan.runs[k].output.string();
             run_options.progress = false;
+            run_options.handle_signals = false;
             std::string outcome;
             try {
-              const int code = scenario->run(plan.runs[k].config, run_options);
+              const int code = run_scenario(*scenario, plan.runs[k].config, run_options);
               outcome = code == 0 ? "done" : fmt::format("stopped (exit {})", code);
             } catch (const std::exception& error) {
               outcome = "failed";

@@ -1,18 +1,15 @@
 #pragma once
-// A system names what it reads and writes; the Schedule orders systems from
-// those declarations alone, so nobody wires graph edges by hand.
+// A system names what it reads and writes (engine/access.hpp); the Schedule
+// orders systems from those declarations alone, so nobody wires graph edges
+// by hand.
 
 #include <string>
-#include <vector>
+
+#include "engine/access.hpp"
 
 namespace granflow {
 
 class World;
-
-struct Access {
-  std::vector<std::string> reads;
-  std::vector<std::string> writes;
-};
 
 class System {
  public:

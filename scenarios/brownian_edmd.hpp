@@ -4,14 +4,11 @@
 #include <vector>
 
 #include "engine/config.hpp"
-#include "engine/scenario_registry.hpp"
-#include "scenarios/run_checkpoint.hpp"
+#include "engine/scenario.hpp"
 #include "systems/sde/sde_model.hpp"
 
 namespace granflow::scenarios {
 
-const ConfigSchema& brownian_edmd_schema();
-int run_brownian_edmd(const Config& config, const RunOptions& options);
 
 struct EdmdMsdResult {
   std::vector<double> time, msd, msd_stderr, msd_theory;
@@ -20,7 +17,9 @@ struct EdmdMsdResult {
   double temperature0 = 0.0;
   double long_time_slope = 0.0;  // least-squares slope of the MSD over the last decade of times
 };
-// Every run (in parallel, one World each) of one configuration.
-EdmdMsdResult measure_edmd_msd(const Config& config, bool progress = false, const RunCheckpoint& checkpoint = {});
+// Mean and standard error over the ensemble's runs, and the theory.
+EdmdMsdResult reduce_edmd_msd(const EnsembleResults& results);
+// Every run (in parallel, one World each) of one configuration, in memory.
+EdmdMsdResult measure_edmd_msd(const Config& config);
 
 }  // namespace granflow::scenarios

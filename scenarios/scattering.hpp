@@ -1,17 +1,14 @@
 #pragma once
-// Scenario `scattering` (seed 002 appendix B.4): a light small disk fired at
-// a heavy large one at rest, for a scan of impact parameters b; the
-// scattering angle against b / R12 with the analytic hard-disk result.
+// Scenario `scattering`: a light small disk fired at a heavy large one at
+// rest, for a scan of impact parameters b; the scattering angle against
+// b / R12 with the analytic hard-disk result.
 
 #include <vector>
 
 #include "engine/config.hpp"
-#include "engine/scenario_registry.hpp"
 
 namespace granflow::scenarios {
 
-const ConfigSchema& scattering_schema();
-int run_scattering(const Config& config, const RunOptions& options);
 
 struct ScatteringPoint {
   double impact_ratio;  // b / R12
@@ -19,7 +16,8 @@ struct ScatteringPoint {
   double analytic;
 };
 
-// One two-particle event-driven run per impact parameter, in parallel.
+// One two-particle event-driven run per impact parameter (the members of the
+// scenario's ensemble), in parallel.
 std::vector<ScatteringPoint> scattering_scan(const Config& config);
 
 // Lab-frame angle for a target of mass m1 at rest hit by m2 at impact

@@ -21,7 +21,7 @@
 #include "systems/observables/collisions_per_particle.hpp"
 #include "systems/observables/kinetic_energy.hpp"
 #include "systems/observables/observable_writer.hpp"
-#include "systems/observables/particle_snapshot.hpp"
+#include "engine/particle_output.hpp"
 #include "systems/observables/species_kinetic_energy.hpp"
 
 namespace granflow::scenarios {

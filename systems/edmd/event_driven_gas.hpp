@@ -21,6 +21,7 @@
 // runaway collision rate (inelastic collapse) stops the run with a diagnosis.
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -41,6 +42,8 @@
 #include "components/position.hpp"
 #include "components/radius.hpp"
 #include "components/velocity.hpp"
+#include "engine/config.hpp"
+#include "engine/state_map.hpp"
 #include "engine/world.hpp"
 #include "systems/edmd/cell_grid.hpp"
 #include "systems/edmd/collapse_monitor.hpp"
@@ -58,7 +61,32 @@ struct CollisionParameters {
   // A collision rate this many times the rate expected from the kinetic
   // energy is taken as inelastic collapse.
   double collapse_rate_factor = 1000.0;
+
+  // collision.* keys, declared once for every event-driven scenario with that scenario's defaults.
+  static void declare(ConfigSchema& schema, const CollisionParameters& defaults);
+  static CollisionParameters from(const Config& config);
 };
+
+inline void CollisionParameters::declare(ConfigSchema& schema, const CollisionParameters& d) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  schema.real("collision.restitution", d.restitution, 0.0, 1.0, "normal restitution coefficient xi")
+      .real("collision.wall_restitution", d.wall_restitution, 0.0, 1.0,
+            "restitution of reflecting walls: the whole velocity is scaled by it (Poeschel & Schwager 2005)")
+      .real("collision.contact_time", d.contact_time, 0.0, inf,
+            "TC model (Luding & McNamara 1998): collisions within this time of a particle's previous collision "
+            "are elastic")
+      .real_or_infinite("collision.collapse_rate_factor", d.collapse_rate_factor, 10.0,
+                        "collision-rate increase (at equal thermal speed) that is reported as inelastic collapse");
+}
+
+inline CollisionParameters CollisionParameters::from(const Config& config) {
+  CollisionParameters p;
+  p.restitution = config.real("collision.restitution");
+  p.wall_restitution = config.real("collision.wall_restitution");
+  p.contact_time = config.real("collision.contact_time");
+  p.collapse_rate_factor = config.real("collision.collapse_rate_factor");
+  return p;
+}
 
 struct EventStatistics {
   std::uint64_t pair_collisions = 0;
@@ -78,11 +106,13 @@ struct EventRecord {
   static constexpr std::uint32_t wall_partner = std::numeric_limits<std::uint32_t>::max();
 };
 
-enum class StopReason { reached_time, collision_limit, energy_limit, collapse, no_events };
+enum class StopReason { reached_time, collision_limit, energy_limit, collapse, no_events, interrupted };
 
 struct AdvanceLimits {
   std::uint64_t max_pair_collisions = std::numeric_limits<std::uint64_t>::max();
   double min_kinetic_energy = -1.0;
+  // When set, advance() returns between two events (state consistent, not synchronised).
+  const std::atomic<bool>* interrupt = nullptr;
 };
 
 class InelasticCollapse : public std::runtime_error {
@@ -90,12 +120,11 @@ class InelasticCollapse : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Access key under which systems declare that they use the engine's state.
-inline constexpr const char* event_driven_gas_key = "event_driven_gas";
-
 template <int D>
-class EventDrivenGas {
+class EventDrivenGas : public Stateful {
  public:
+  static constexpr const char* key = "event_driven_gas";
+
   // The world must hold Box<D> and the Position, Velocity, Mass and Radius
   // components; the engine adds what it needs besides.
   EventDrivenGas(World& world, const CollisionParameters& parameters, bool sort_in_space = true)
@@ -135,6 +164,7 @@ class EventDrivenGas {
     while (true) {
       if (statistics_.pair_collisions >= limits.max_pair_collisions) return StopReason::collision_limit;
       if (kinetic_energy_ <= limits.min_kinetic_energy) return StopReason::energy_limit;
+      if (limits.interrupt && limits.interrupt->load(std::memory_order_relaxed)) return StopReason::interrupted;
       const std::uint32_t i = calendar_.earliest();
       if (i == EventCalendar::none) {
         now_ = std::max(now_, until);
@@ -185,8 +215,8 @@ class EventDrivenGas {
   // World's components (kept in the same storage order), as flat arrays.
   // Cell lists are rebuilt on restore, which can change the order in which
   // equal-time candidate collisions are compared, and nothing else.
-  std::map<std::string, std::vector<double>> save_state() const {
-    std::map<std::string, std::vector<double>> out;
+  StateMap save_state() const override {
+    StateMap out;
     const std::size_t n = world_.size();
     auto& hot = out["hot"];
     auto& plan = out["plan"];
@@ -212,7 +242,7 @@ class EventDrivenGas {
 
   // Continues from save_state() output; the World must hold the components
   // as they were when it was saved.
-  void restore_state(const std::map<std::string, std::vector<double>>& in) {
+  void restore_state(const StateMap& in) override {
     const std::size_t n = world_.size();
     const auto& radius = world_.template component<Radius>();
     const double max_radius = n ? *std::max_element(radius.values.begin(), radius.values.end()) : 0.0;
@@ -221,7 +251,8 @@ class EventDrivenGas {
     const auto& hot = in.at("hot");
     const auto& plan = in.at("plan");
     const auto& cell = in.at("cell");
-    if (hot.size() != n * (2 * D + 2) || plan.size() != 4 * n || cell.size() != n)
+    if (hot.size() != n * (2 * D + 2) || plan.size() != 4 * n || cell.size() != n || in.at("event_time").size() != n ||
+        in.at("scalars").size() != 10)
       throw std::invalid_argument("checkpoint does not match the number of particles");
     plan_.assign(n, Plan{never, 0, 0});
     event_kind_.assign(n, EventKind::none);
@@ -250,6 +281,12 @@ class EventDrivenGas {
     statistics_.virial = s.at(9);
     collapse_.restore(in.at("collapse"));
   }
+
+  // Re-sort every `pair_collisions` collisions whatever the size (0: the
+  // automatic choice, which re-sorts only gases larger than the cache);
+  // takes effect at the next start() or re-sort.
+  void set_resort_interval(std::uint64_t pair_collisions) { resort_every_ = pair_collisions; }
+  std::uint64_t resorts() const { return resorts_; }
 
   // Memory the engine and the components it uses hold per particle.
   std::size_t bytes_per_particle() const {
@@ -291,12 +328,14 @@ class EventDrivenGas {
   // once the data no longer fits in cache, re-sorting every few collisions
   // per particle costs far less than the cache misses it saves.
   std::uint64_t resort_interval() const {
+    if (resort_every_ > 0) return resort_every_;
     constexpr std::size_t cache_resident = 32768;
     if (!sort_in_space_ || world_.size() < cache_resident) return std::numeric_limits<std::uint64_t>::max() / 2;
     return 5 * world_.size();  // 10 collisions per particle
   }
 
   void resort() {
+    ++resorts_;
     synchronize(now_);
     rebuild(now_);
     next_resort_ = statistics_.pair_collisions + resort_interval();
@@ -699,6 +738,8 @@ class EventDrivenGas {
   double now_ = 0.0;
   double kinetic_energy_ = 0.0;
   std::uint64_t next_resort_ = 0;
+  std::uint64_t resort_every_ = 0;
+  std::uint64_t resorts_ = 0;
   EventStatistics statistics_;
   std::string collapse_message_;
   std::function<void(const EventRecord&)> observer_;

@@ -1,9 +1,14 @@
 #pragma once
-// The EDMD node of a scenario graph: processes events up to the next output
-// time (or a stop criterion) and brings every particle to that time, so the
-// observers that follow see one synchronised state (seed 002 appendix C.1).
+// The EDMD node of a run's per-step schedule: processes events up to the
+// Runner's next target (a time, or a pair-collision count, which is the
+// Clock's step for event-driven runs) or a stop criterion, and brings every
+// particle to that moment, so the observers that follow see one synchronised
+// state (Poeschel & Schwager 2005, ch. 3). The gas is the World's
+// EventDrivenGas<D> resource.
 
 #include <fmt/format.h>
+
+#include <algorithm>
 
 #include "components/clock.hpp"
 #include "components/position.hpp"
@@ -17,46 +22,57 @@ namespace granflow::edmd {
 template <int D>
 class EventDrivenStep : public System {
  public:
-  EventDrivenStep(EventDrivenGas<D>& gas, AdvanceLimits limits) : gas_(gas), limits_(limits) {}
+  explicit EventDrivenStep(AdvanceLimits limits) : limits_(limits) {}
 
   std::string name() const override { return "edmd_advance"; }
+  // A re-sort of the particles (World::permute) writes every column.
   Access access() const override {
-    return {{RunControl::key},
-            {Position<D>::key, Velocity<D>::key, Clock::key, RunControl::key, event_driven_gas_key}};
+    return Access{}
+        .reads<RunControl>()
+        .template writes<Position<D>, Velocity<D>, Clock, RunControl, EventDrivenGas<D>>()
+        .writes_every_component();
   }
 
   void run(World& world) override {
+    auto& gas = world.resource<EventDrivenGas<D>>();
     auto& control = world.resource<RunControl>();
     AdvanceLimits limits = limits_;
-    limits.max_pair_collisions = std::min(limits.max_pair_collisions, control.pause_at_pair_collisions);
-    StopReason reason = gas_.advance(control.target_time, limits);
-    gas_.synchronize(reason == StopReason::reached_time || reason == StopReason::no_events ? control.target_time
-                                                                                            : gas_.time());
-    if (reason == StopReason::collision_limit && gas_.statistics().pair_collisions < limits_.max_pair_collisions)
-      reason = StopReason::reached_time;  // a pause the driver asked for
+    if (control.target_step >= 0)
+      limits.max_pair_collisions = std::min(limits.max_pair_collisions, static_cast<std::uint64_t>(control.target_step));
+    limits.interrupt = control.interrupt;
+    StopReason reason = gas.advance(control.target_time, limits);
     auto& clock = world.resource<Clock>();
-    clock.time = gas_.time();
-    clock.step = static_cast<std::int64_t>(gas_.statistics().pair_collisions);
+    if (reason == StopReason::interrupted) {
+      // Left between two events; the engine's own state holds the particles.
+      clock.time = gas.time();
+      clock.step = static_cast<std::int64_t>(gas.statistics().pair_collisions);
+      return;
+    }
+    gas.synchronize(reason == StopReason::reached_time || reason == StopReason::no_events ? control.target_time
+                                                                                          : gas.time());
+    if (reason == StopReason::collision_limit && gas.statistics().pair_collisions < limits_.max_pair_collisions)
+      reason = StopReason::reached_time;  // the target step, not the run's limit
+    clock.time = gas.time();
+    clock.step = static_cast<std::int64_t>(gas.statistics().pair_collisions);
     switch (reason) {
       case StopReason::collision_limit:
         control.stop = true;
-        control.reason = fmt::format("reached the collision limit at t = {:.6g}", gas_.time());
+        control.reason = fmt::format("reached the collision limit at t = {:.6g}", gas.time());
         break;
       case StopReason::energy_limit:
         control.stop = true;
-        control.reason = fmt::format("kinetic energy fell to the requested fraction at t = {:.6g}", gas_.time());
+        control.reason = fmt::format("kinetic energy fell to the requested fraction at t = {:.6g}", gas.time());
         break;
       case StopReason::collapse:
         control.stop = true;
         control.failed = true;
-        control.reason = gas_.collapse_message();
+        control.reason = gas.collapse_message();
         break;
       default: break;
     }
   }
 
  private:
-  EventDrivenGas<D>& gas_;
   AdvanceLimits limits_;
 };
 

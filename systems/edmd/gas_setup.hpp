@@ -37,6 +37,18 @@ struct GasDefaults {
   bool remove_mean_velocity = true;
 };
 
+// run.* stop criteria of event-driven runs; a resumed run may change them.
+inline void declare_stop_keys(ConfigSchema& schema, double t_stop, double min_energy_fraction = 0.0) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  schema.real("run.t_stop", t_stop, 0.0, inf, "stop time", true)
+      .real_or_infinite("run.max_collisions_per_particle", inf, 0.0, "stop after this many collisions per particle")
+      .real("run.min_energy_fraction", min_energy_fraction, 0.0, 1.0,
+            "stop when the kinetic energy falls below this fraction of the initial one")
+      .allow_change_on_resume("run.t_stop")
+      .allow_change_on_resume("run.max_collisions_per_particle")
+      .allow_change_on_resume("run.min_energy_fraction");
+}
+
 inline void declare_gas_keys(ConfigSchema& schema, const GasDefaults& d) {
   constexpr double inf = std::numeric_limits<double>::infinity();
   schema.integer("system.dimension", d.dimension, 2, 3, "2 for hard disks, 3 for hard spheres")
@@ -46,7 +58,7 @@ inline void declare_gas_keys(ConfigSchema& schema, const GasDefaults& d) {
       .real("system.box_length", 1.0, 0.0, inf, "edge L of the square/cubic box", true)
       .choice("system.boundary", d.boundary, {"periodic", "reflecting"}, "boundary on every axis")
       .choice("initial.velocity", d.velocity, {"equilibrated", "fixed_speed", "maxwell_boltzmann"},
-              "fixed_speed: |v| = initial.speed in random directions (seed 000 eq. 3.3); maxwell_boltzmann: at "
+              "fixed_speed: |v| = initial.speed in random directions; maxwell_boltzmann: at "
               "initial.temperature; equilibrated: fixed_speed run elastically for "
               "initial.equilibration_collisions collisions per particle")
       .real("initial.speed", std::numbers::sqrt2, 0.0, inf, "initial speed v0 (fixed_speed, equilibrated)", true)
@@ -54,17 +66,11 @@ inline void declare_gas_keys(ConfigSchema& schema, const GasDefaults& d) {
       .real("initial.equilibration_collisions", 20.0, 0.0, 1e6,
             "collisions per particle of the elastic run that prepares an equilibrated state")
       .boolean("initial.remove_mean_velocity", d.remove_mean_velocity,
-               "remove the centre-of-mass velocity at start (seed 000 sec. 3.8), keeping the kinetic energy")
-      .real("collision.restitution", d.restitution, 0.0, 1.0, "normal restitution coefficient xi")
-      .real("collision.wall_restitution", 1.0, 0.0, 1.0, "restitution of reflecting walls (seed 002 eqs. 3-4)")
-      .real("collision.contact_time", 0.0, 0.0, inf,
-            "TC model: collisions within this time of a particle's previous collision are elastic")
-      .real_or_infinite("collision.collapse_rate_factor", 1000.0, 10.0,
-                        "collision-rate increase (at equal thermal speed) that is reported as inelastic collapse")
-      .real("run.t_stop", d.t_stop, 0.0, inf, "stop time", true)
-      .integer("run.seed", 1, 0, std::numeric_limits<std::int64_t>::max(), "seed of every random stream")
-      .real_or_infinite("run.max_collisions_per_particle", inf, 0.0, "stop after this many collisions per particle")
-      .real("run.min_energy_fraction", 0.0, 0.0, 1.0, "stop when the kinetic energy falls below this fraction");
+               "remove the centre-of-mass velocity at start, keeping the kinetic energy");
+  CollisionParameters collision;
+  collision.restitution = d.restitution;
+  CollisionParameters::declare(schema, collision);
+  declare_stop_keys(schema, d.t_stop);
 }
 
 template <int D>
@@ -73,15 +79,6 @@ Box<D> box_from(const Config& config) {
   box.length.fill(config.real("system.box_length"));
   box.periodic.fill(config.text("system.boundary") == "periodic");
   return box;
-}
-
-inline CollisionParameters collision_parameters_from(const Config& config) {
-  CollisionParameters p;
-  p.restitution = config.real("collision.restitution");
-  p.wall_restitution = config.real("collision.wall_restitution");
-  p.contact_time = config.real("collision.contact_time");
-  p.collapse_rate_factor = config.real("collision.collapse_rate_factor");
-  return p;
 }
 
 // Stop criteria of a run from run.max_collisions_per_particle and
@@ -99,9 +96,9 @@ inline AdvanceLimits advance_limits_from(const Config& config, std::size_t count
 // t = 0. `customize` may change masses, radii or add components (a mixture's
 // species) before particles are placed and given velocities.
 template <int D>
-void build_gas(World& world, const Config& config, const std::function<void(World&)>& customize = {}) {
+void build_gas(World& world, const Config& config, std::uint64_t seed,
+               const std::function<void(World&)>& customize = {}) {
   const auto count = static_cast<std::size_t>(config.integer("system.count"));
-  const auto seed = static_cast<std::uint64_t>(config.integer("run.seed"));
   world.resize(count);
   const Box<D>& box = world.emplace_resource<Box<D>>(box_from<D>(config));
   auto& mass = world.add_component<Mass>();

@@ -21,11 +21,13 @@
 #include "engine/rng.hpp"
 #include "engine/stream_ids.hpp"
 
+#include "engine/input_error.hpp"
+
 namespace granflow {
 
-class PlacementError : public std::runtime_error {
+class PlacementError : public InputError {
  public:
-  using std::runtime_error::runtime_error;
+  using InputError::InputError;
 };
 
 template <int D>

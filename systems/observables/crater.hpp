@@ -15,22 +15,40 @@
 #include "components/radius.hpp"
 #include "components/species.hpp"
 #include "engine/observable_store.hpp"
+#include "engine/state_map.hpp"
 #include "engine/system.hpp"
 #include "engine/world.hpp"
 
 namespace granflow {
 
 template <int D>
-class CraterObserver : public System {
+class CraterObserver : public System, public Stateful {
  public:
-  // `initial` holds every particle's position before the impact, indexed by ParticleId.
-  CraterObserver(std::vector<Vec<D>> initial, double threshold, double surface)
-      : initial_(std::move(initial)), threshold_(threshold), surface_(surface) {}
+  // Takes every particle's position before the impact from the world as it is now.
+  CraterObserver(const World& world, double threshold, double surface)
+      : initial_(world.size()), threshold_(threshold), surface_(surface) {
+    const auto& id = world.component<ParticleId>();
+    const auto& x = world.component<Position<D>>();
+    for (std::size_t i = 0; i < world.size(); ++i) initial_[id[i]] = x[i];
+  }
 
   std::string name() const override { return "observe_crater"; }
   Access access() const override {
-    return {{Position<D>::key, Species::key, ParticleId::key, Radius::key},
-            {ObservableStore::access_key("crater_size"), ObservableStore::access_key("projectile_depth")}};
+    return Access{}
+        .reads<Position<D>, Species, ParticleId, Radius>()
+        .writes_observable("crater_size")
+        .writes_observable("projectile_depth");
+  }
+  StateMap save_state() const override {
+    std::vector<double> flat;
+    for (const auto& x : initial_) flat.insert(flat.end(), x.data(), x.data() + D);
+    return {{"initial_position", flat}};
+  }
+  void restore_state(const StateMap& state) override {
+    const auto& flat = state.at("initial_position");
+    if (flat.size() != initial_.size() * D) throw std::invalid_argument("checkpoint crater positions have the wrong size");
+    for (std::size_t i = 0; i < initial_.size(); ++i)
+      for (int a = 0; a < D; ++a) initial_[i][a] = flat[i * D + a];
   }
   void run(World& world) override {
     const auto& x = world.component<Position<D>>();

@@ -23,8 +23,7 @@ class KineticEnergyObserver : public System {
  public:
   std::string name() const override { return "observe_kinetic_energy"; }
   Access access() const override {
-    return {{Velocity<D>::key, Mass::key},
-            {ObservableStore::access_key("kinetic_energy"), ObservableStore::access_key("temperature")}};
+    return Access{}.reads<Velocity<D>, Mass>().writes_observable("kinetic_energy").writes_observable("temperature");
   }
   void run(World& world) override {
     const double mean = world.size() ? total_kinetic_energy<D>(world) / static_cast<double>(world.size()) : 0.0;

@@ -15,6 +15,7 @@
 #include "components/position.hpp"
 #include "engine/deterministic_sum.hpp"
 #include "engine/observable_store.hpp"
+#include "engine/state_map.hpp"
 #include "engine/system.hpp"
 #include "engine/world.hpp"
 
@@ -50,7 +51,7 @@ class UnwrappedPositions {
 };
 
 template <int D>
-class MsdObserver : public System {
+class MsdObserver : public System, public Stateful {
  public:
   // Takes the reference positions x(0) from the world as it is now.
   explicit MsdObserver(const World& world) : origin_(world.size()) {
@@ -60,7 +61,18 @@ class MsdObserver : public System {
 
   std::string name() const override { return "observe_msd"; }
   Access access() const override {
-    return {{Position<D>::key, ImageCount<D>::key}, {ObservableStore::access_key("msd")}};
+    return Access{}.reads<Position<D>, ImageCount<D>, ParticleId>().writes_observable("msd");
+  }
+  StateMap save_state() const override {
+    std::vector<double> flat;
+    for (const auto& x : origin_) flat.insert(flat.end(), x.data(), x.data() + D);
+    return {{"origin", flat}};
+  }
+  void restore_state(const StateMap& state) override {
+    const auto& flat = state.at("origin");
+    if (flat.size() != origin_.size() * D) throw std::invalid_argument("checkpoint MSD origins have the wrong size");
+    for (std::size_t i = 0; i < origin_.size(); ++i)
+      for (int a = 0; a < D; ++a) origin_[i][a] = flat[i * D + a];
   }
   void run(World& world) override { world.resource<ObservableStore>().set("msd", measure(world)); }
 

@@ -14,7 +14,10 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
+
+#include "engine/state_map.hpp"
 
 namespace granflow {
 
@@ -64,6 +67,27 @@ class MultipleTauMsd {
       }
     }
     return r;
+  }
+
+  // Everything it has accumulated, for checkpoints.
+  StateMap save_state() const {
+    return {{"history", history_},
+            {"seen", {seen_.begin(), seen_.end()}},
+            {"sums", sums_},
+            {"origins", {origins_.begin(), origins_.end()}}};
+  }
+  void restore_state(const StateMap& state) {
+    const auto& history = state.at("history");
+    const auto& seen = state.at("seen");
+    const auto& sums = state.at("sums");
+    const auto& origins = state.at("origins");
+    if (history.size() != history_.size() || seen.size() != seen_.size() || sums.size() != sums_.size() ||
+        origins.size() != origins_.size())
+      throw std::invalid_argument("checkpoint correlator does not match its configuration");
+    history_ = history;
+    sums_ = sums;
+    for (std::size_t k = 0; k < seen.size(); ++k) seen_[k] = static_cast<std::uint64_t>(seen[k]);
+    for (std::size_t k = 0; k < origins.size(); ++k) origins_[k] = static_cast<std::uint64_t>(origins[k]);
   }
 
   std::size_t bytes() const {

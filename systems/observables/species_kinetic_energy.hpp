@@ -36,7 +36,7 @@ class SpeciesKineticEnergyObserver : public System {
 
   std::string name() const override { return "observe_kinetic_energy_by_species"; }
   Access access() const override {
-    return {{Velocity<D>::key, Mass::key, Species::key}, {ObservableStore::access_key(observable)}};
+    return Access{}.reads<Velocity<D>, Mass, Species>().writes_observable(observable);
   }
   void run(World& world) override {
     world.resource<ObservableStore>().set(observable, species_kinetic_energies<D>(world, species_count_));

@@ -48,6 +48,7 @@ class SpeedSamples {
     return all;
   }
   std::size_t species_count() const { return speeds_.size(); }
+  void set_speeds(std::size_t species, std::vector<double> speeds) { speeds_.at(species) = std::move(speeds); }
 
   // Vertex of a least-squares parabola through the bins above 80 % of the
   // highest one: a smooth peak spans several bins, so this averages out the

@@ -1,7 +1,7 @@
 #pragma once
 // The SDE node of a scenario graph: advances every particle of an ensemble of
 // independent Langevin / UDSBM particles (systems/sde/sde_model.hpp) in
-// fixed steps up to the next output time. Particles are independent, so each
+// fixed steps, one per run() (the Runner repeats it up to the next output). Particles are independent, so each
 // step is one tbb::parallel_for over blocks of particles; the Wiener
 // increments are Philox draws keyed by (sde_noise, seed, step, particle), so
 // the trajectories do not depend on the thread count or block size.
@@ -20,7 +20,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <functional>
 #include <string>
 
 #include "components/clock.hpp"
@@ -38,26 +37,19 @@ namespace granflow::sde {
 template <int D>
 class SdeAdvance : public System {
  public:
-  // `after_step(step)` runs after every step (e.g. to feed an on-the-fly correlator).
-  SdeAdvance(SdeModel model, Scheme scheme, double dt, std::uint64_t seed,
-             std::function<void(std::int64_t)> after_step = {})
-      : model_(model), scheme_(scheme), dt_(dt), seed_(seed), after_step_(std::move(after_step)) {}
+  SdeAdvance(SdeModel model, Scheme scheme, double dt, std::uint64_t seed)
+      : model_(model), scheme_(scheme), dt_(dt), seed_(seed) {}
 
   std::string name() const override { return "sde_advance"; }
-  Access access() const override {
-    return {{RunControl::key}, {Position<D>::key, Velocity<D>::key, Clock::key}};
-  }
+  Access access() const override { return Access{}.writes<Position<D>, Velocity<D>, Clock>(); }
 
+  // One step; the Runner calls it until its target step.
   void run(World& world) override {
     auto& clock = world.resource<Clock>();
-    const double target = world.resource<RunControl>().target_time;
+    step(world, clock.step);
+    ++clock.step;
     // Steps are counted, not times summed, so output times land on steps exactly.
-    while (static_cast<double>(clock.step + 1) * dt_ <= target * (1.0 + 1e-12)) {
-      step(world, clock.step);
-      ++clock.step;
-      clock.time = static_cast<double>(clock.step) * dt_;
-      if (after_step_) after_step_(clock.step);
-    }
+    clock.time = static_cast<double>(clock.step) * dt_;
   }
 
   void step(World& world, std::int64_t step_index) {
@@ -78,7 +70,6 @@ class SdeAdvance : public System {
   Scheme scheme_;
   double dt_;
   std::uint64_t seed_;
-  std::function<void(std::int64_t)> after_step_;
 };
 
 }  // namespace granflow::sde

@@ -46,10 +46,22 @@ expect_error "asks for 1e+15 output times" \
 expect_error "'system.radius' = inf is out of range: allowed is a number in (0, inf)" \
   run "$scenario" --set system.radius=inf -o "$work/x.h5"
 expect_error "--set expects section.key=value" run "$scenario" --set oops -o "$work/x.h5"
-expect_error "" run "$scenario" --threads 0
+expect_error "--threads: Value 0 not in range" run "$scenario" --threads 0
 if [[ -e "$work/x.h5" || -e "$work/x.h5.partial" ]]; then
   echo "FAIL: a failed run left $work/x.h5 or its .partial"; failures=$((failures + 1))
 fi
+# The output path is checked before any work.
+expect_error "output '$work' is a directory" run "$scenario" "${small[@]}" -o "$work"
+expect_error "directory '$work/missing' does not exist" run "$scenario" "${small[@]}" -o "$work/missing/x.h5"
+# --set trims spaces and reads 2e2 as an integer.
+"$granflow" run "$scenario" --set ' system.count = 2e2 ' --set run.t_stop=0.5 --set initial.equilibration_collisions=2 \
+  -q -o "$work/trim.h5" || { echo "FAIL: --set with spaces and 2e2"; failures=$((failures + 1)); }
+"$granflow" --version | grep -q '^granflow [0-9]' || { echo "FAIL: --version"; failures=$((failures + 1)); }
+# A checkpoint of another configuration is never replaced by a fresh run.
+cp "$work/trim.h5" "$work/other.h5.checkpoint"
+expect_error "checkpoint '$work/other.h5.checkpoint' of another configuration is in the way" \
+  run "$scenario" "${small[@]}" --set collision.restitution=0.5 -o "$work/other.h5"
+[[ -e "$work/other.h5.checkpoint" ]] || { echo "FAIL: the other checkpoint was deleted"; failures=$((failures + 1)); }
 
 for threads in 1 2; do
   if ! "$granflow" run "$scenario" "${small[@]}" --threads $threads -o "$work/t$threads.h5"; then
@@ -84,7 +96,7 @@ expect_error "system.boundary must be periodic" run "$(dirname "$scenario")/brow
   --set system.boundary=reflecting -o "$work/x.h5"
 expect_error "'system.dimension' = 4 is out of range" run "$(dirname "$scenario")/udsbm_msd.toml" \
   --set system.dimension=4 -o "$work/x.h5"
-expect_error "--resume: scenario 'crater_impact' writes no checkpoints" run "$(dirname "$scenario")/crater_impact.toml" \
+expect_error "--resume: there is no checkpoint" run "$(dirname "$scenario")/crater_impact.toml" \
   --resume -o "$work/x.h5"
 if [[ -e "$work/x.h5" || -e "$work/x.h5.partial" ]]; then
   echo "FAIL: a failed diffusion run left $work/x.h5 or its .partial"; failures=$((failures + 1))
@@ -141,8 +153,9 @@ edmd_args=(--set run.runs=4 --set run.t_stop=10 --set system.count=500 --set sys
 pid=$!
 for _ in $(seq 1 500); do [[ -e "$work/bd_cut.h5.checkpoint" ]] && break; sleep 0.02; done
 kill -9 "$pid" 2>/dev/null; wait "$pid" 2>/dev/null
-"$granflow" run "$scenarios/brownian_edmd.toml" "${edmd_args[@]}" -o "$work/bd_cut.h5" \
-  $([[ -e "$work/bd_cut.h5.checkpoint" ]] && echo --resume) || { echo "FAIL: brownian_edmd resume"; failures=$((failures + 1)); }
+[[ -e "$work/bd_cut.h5.checkpoint" ]] || { echo "FAIL: brownian_edmd wrote no checkpoint before it was killed"; failures=$((failures + 1)); }
+"$granflow" run "$scenarios/brownian_edmd.toml" "${edmd_args[@]}" -o "$work/bd_cut.h5" --resume \
+  || { echo "FAIL: brownian_edmd resume"; failures=$((failures + 1)); }
 /usr/bin/python3 - "$work" <<'PY' || failures=$((failures + 1))
 import sys, h5py, numpy as np
 a, b = (h5py.File(f"{sys.argv[1]}/bd_{n}.h5", "r") for n in ("ref", "cut"))
@@ -166,7 +179,8 @@ if [[ -e "$work/cut.h5" ]]; then
   echo "FAIL: the run finished before it could be interrupted; make it longer"; failures=$((failures + 1))
 else
   [[ -e "$work/cut.h5.checkpoint" ]] || { echo "FAIL: no checkpoint written"; failures=$((failures + 1)); }
-  expect_error "different configuration" run "$scenario" "${long[@]}" --set run.seed=2 -o "$work/cut.h5" --resume
+  expect_error "other values of keys that change the physics: run.seed (checkpoint: 1, now: 2)" \
+    run "$scenario" "${long[@]}" --set run.seed=2 -o "$work/cut.h5" --resume
   "$granflow" run "$scenario" "${long[@]}" -o "$work/cut.h5" --resume || { echo "FAIL: resume"; failures=$((failures + 1)); }
   [[ -e "$work/cut.h5.checkpoint" ]] && { echo "FAIL: checkpoint left after a finished run"; failures=$((failures + 1)); }
   /usr/bin/python3 - "$work/whole.h5" "$work/cut.h5" <<'PY' || failures=$((failures + 1))

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <vector>
 
+#include "tests/scenario_schema.hpp"
 #include "components/mass.hpp"
 #include "components/velocity.hpp"
 #include "scenarios/crater_impact.hpp"
@@ -19,7 +20,7 @@ namespace granflow::scenarios {
 namespace {
 
 TEST(CraterImpact, CollisionsConserveMomentumAndAccountForEveryJoule) {
-  Config config(crater_impact_schema());
+  Config config(scenario_schema("crater_impact"));
   config.set("system.count", std::int64_t{1000});
   World world;
   build_crater(world, config);
@@ -27,7 +28,7 @@ TEST(CraterImpact, CollisionsConserveMomentumAndAccountForEveryJoule) {
   const double momentum_scale = config.real("projectile.mass_ratio") * config.real("projectile.speed");
 
   // Unsorted storage, so storage index = particle id = the ids events report.
-  edmd::EventDrivenGas<2> gas(world, edmd::collision_parameters_from(config), false);
+  edmd::EventDrivenGas<2> gas(world, edmd::CollisionParameters::from(config), false);
   std::vector<Vec<2>> known = world.component<Velocity<2>>().values;
   const auto& mass = world.component<Mass>();
   const double wall_restitution = config.real("collision.wall_restitution");
@@ -84,7 +85,7 @@ TEST(CraterImpact, CollisionsConserveMomentumAndAccountForEveryJoule) {
 }
 
 TEST(CraterImpact, DenseBedIsPlacedWithoutOverlap) {
-  Config config(crater_impact_schema());
+  Config config(scenario_schema("crater_impact"));
   config.set("system.count", std::int64_t{2000});
   World world;
   build_crater(world, config);

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "tests/scenario_schema.hpp"
 #include "engine/sample_statistics.hpp"
 #include "scenarios/mixture.hpp"
 #include "systems/edmd/gas_setup.hpp"
@@ -43,7 +44,7 @@ void run_for(edmd::EventDrivenGas<2>& gas, const World& world, double collisions
 }
 
 Config mixture_config() {
-  Config config(mixture_schema());
+  Config config(scenario_schema("mixture"));
   config.set("system.count", std::int64_t{4000});
   return config;
 }
@@ -51,11 +52,11 @@ Config mixture_config() {
 TEST(Mixture, ElasticSpeciesShareTheKineticEnergy) {
   const Config config = mixture_config();
   World world;
-  edmd::build_gas<2>(world, config, mixture_species(config));
+  edmd::build_gas<2>(world, config, 1, mixture_species(config));
   // All start at one speed: the heavy species holds 4 times the energy.
   const auto start = species_kinetic_energies<2>(world, 2);
   ASSERT_NEAR(start[1] / start[0], 4.0, 1e-12);
-  edmd::EventDrivenGas<2> gas(world, edmd::collision_parameters_from(config));
+  edmd::EventDrivenGas<2> gas(world, edmd::CollisionParameters::from(config));
   gas.start(0.0);
   run_for(gas, world, 10.0);
   const MeanAndError ratio = energy_ratio(gas, world, 20, 2.0);
@@ -68,10 +69,10 @@ TEST(Mixture, ElasticSpeciesShareTheKineticEnergy) {
 TEST(Mixture, InelasticHeavySpeciesIsHotter) {
   Config config = mixture_config();
   World world;
-  edmd::build_gas<2>(world, config, mixture_species(config));
+  edmd::build_gas<2>(world, config, 1, mixture_species(config));
   // Start from equipartition, so a hotter heavy species is not left over from the start.
   {
-    edmd::EventDrivenGas<2> elastic(world, edmd::collision_parameters_from(config));
+    edmd::EventDrivenGas<2> elastic(world, edmd::CollisionParameters::from(config));
     elastic.start(0.0);
     run_for(elastic, world, 10.0);
     elastic.synchronize(elastic.time());
@@ -79,7 +80,7 @@ TEST(Mixture, InelasticHeavySpeciesIsHotter) {
   const auto equal = species_kinetic_energies<2>(world, 2);
   ASSERT_NEAR(equal[1] / equal[0], 1.0, 0.15);
   config.set("collision.restitution", 0.8);
-  edmd::EventDrivenGas<2> gas(world, edmd::collision_parameters_from(config));
+  edmd::EventDrivenGas<2> gas(world, edmd::CollisionParameters::from(config));
   gas.start(0.0);
   run_for(gas, world, 5.0);
   const MeanAndError ratio = energy_ratio(gas, world, 10, 1.0);

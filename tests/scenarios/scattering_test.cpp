@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "tests/scenario_schema.hpp"
 #include "scenarios/scattering.hpp"
 
 namespace granflow::scenarios {
@@ -24,7 +25,7 @@ TEST(Scattering, AnalyticAngleIsTheTextbookResultForElasticCollisions) {
 }
 
 void expect_scan_matches(double restitution, double target_mass) {
-  Config config(scattering_schema());
+  Config config(scenario_schema("scattering"));
   config.set("collision.restitution", restitution);
   config.set("target.mass", target_mass);
   config.set("scan.points", std::int64_t{101});

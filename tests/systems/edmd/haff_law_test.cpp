@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "scenarios/haff_cooling.hpp"
+#include "tests/scenario_schema.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/edmd/kinetic_theory.hpp"
@@ -41,20 +41,20 @@ std::vector<std::vector<double>> cooling_curves(const HaffCase& c, const std::ve
                                                 double& tau0) {
   std::vector<std::vector<double>> curves;
   for (int run = 0; run < c.runs; ++run) {
-    Config config(scenarios::haff_cooling_schema());
+    Config config(scenario_schema("haff_cooling"));
     config.set("system.count", c.particles);
     // radius for the seed's packing fraction 0.0654 at this N
     config.set("system.radius", theory::radius_for_packing_fraction<3>(static_cast<double>(c.particles), 0.0654, 1.0));
     config.set("collision.restitution", c.restitution);
     config.set("run.seed", std::int64_t{100 + run});
     World world;
-    build_gas<3>(world, config);
+    build_gas<3>(world, config, 100 + run);
     const double n = static_cast<double>(c.particles);
     const double t0_temperature = 2.0 / 3.0 * total_kinetic_energy<3>(world) / n;
     const double radius = config.real("system.radius");
     const double eta = theory::packing_fraction<3>(n, radius, 1.0);
     tau0 = theory::haff_time<3>(c.restitution, theory::collision_frequency<3>(n, 2 * radius, t0_temperature, 1.0, eta));
-    EventDrivenGas<3> gas(world, collision_parameters_from(config));
+    EventDrivenGas<3> gas(world, CollisionParameters::from(config));
     gas.start(0.0);
     std::vector<double> curve;
     for (double m : multiples) {

@@ -10,6 +10,7 @@
 
 #include <cmath>
 
+#include "tests/scenario_schema.hpp"
 #include "components/clock.hpp"
 #include "engine/run_control.hpp"
 #include "scenarios/sde_msd.hpp"
@@ -78,7 +79,7 @@ TEST(SdeTheory, ExactUpdateKeepsTheStationaryVariance) {
 // The standard error is estimated from the scatter of `runs` runs: 16 runs
 // (15 degrees of freedom) make that estimate good to ~20 %.
 Config sde_config(const std::string& scenario, std::int64_t count, double t_stop, double dt, std::int64_t runs = 16) {
-  Config config(scenario == "langevin_msd" ? scenarios::langevin_msd_schema() : scenarios::udsbm_msd_schema());
+  Config config(scenario == "langevin_msd" ? scenario_schema("langevin_msd") : scenario_schema("udsbm_msd"));
   config.set("system.count", count);
   config.set("run.t_stop", t_stop);
   config.set("run.dt", dt);

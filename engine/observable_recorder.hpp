@@ -1,0 +1,105 @@
+#pragma once
+// Appends every fresh observable to /observables/<name>/{step,time,value}
+// and keeps what it wrote, so a checkpoint carries the series and a resumed
+// run writes them again into its new result file. The Runner adds it after
+// every observer, reading every observable they declare.
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "components/clock.hpp"
+#include "engine/observable_store.hpp"
+#include "engine/output_file.hpp"
+#include "engine/state_map.hpp"
+#include "engine/system.hpp"
+#include "engine/world.hpp"
+
+namespace granflow {
+
+struct ObservableSample {
+  std::int64_t step;
+  double time;
+  std::vector<double> value;
+};
+using ObservableHistory = std::map<std::string, std::vector<ObservableSample>>;
+
+class ObservableRecorder : public System {
+ public:
+  explicit ObservableRecorder(std::vector<std::string> observables) : observables_(std::move(observables)) {}
+
+  std::string name() const override { return "write_observables"; }
+  Access access() const override {
+    Access access;
+    access.reads<Clock>().writes<OutputFile>();
+    for (const auto& name : observables_) access.reads_observable(name);
+    return access;
+  }
+  void run(World& world) override {
+    const auto& clock = world.resource<Clock>();
+    auto& store = world.resource<ObservableStore>();
+    H5mdFile* file = world.resource<OutputFile>().file;
+    for (const auto& name : observables_) {
+      auto& slot = store.slot(name);
+      if (!slot.fresh) continue;
+      append(file, name, {clock.step, clock.time, slot.value});
+      slot.fresh = false;
+    }
+  }
+
+  void append(H5mdFile* file, const std::string& name, const ObservableSample& sample) {
+    if (file) {
+      if (sample.value.size() == 1)
+        file->append_observable(name, sample.step, sample.time, sample.value.front());
+      else
+        file->append_observable(name, sample.step, sample.time, sample.value);
+    }
+    history_[name].push_back(sample);
+  }
+  const ObservableHistory& history() const { return history_; }
+
+  StateMap save_history() const {
+    StateMap out;
+    for (const auto& [name, samples] : history_) {
+      auto& step = out[name + "/step"];
+      auto& time = out[name + "/time"];
+      auto& value = out[name + "/value"];
+      auto& width = out[name + "/width"];
+      for (const auto& s : samples) {
+        step.push_back(static_cast<double>(s.step));
+        time.push_back(s.time);
+        width.push_back(static_cast<double>(s.value.size()));
+        value.insert(value.end(), s.value.begin(), s.value.end());
+      }
+    }
+    return out;
+  }
+  // Writes a saved history again (into `file`, when there is one).
+  void replay(H5mdFile* file, const StateMap& saved) {
+    for (const auto& [entry, steps] : saved) {
+      if (entry.size() < 5 || entry.compare(entry.size() - 5, 5, "/step") != 0) continue;
+      const std::string name = entry.substr(0, entry.size() - 5);
+      const auto& time = saved.at(name + "/time");
+      const auto& value = saved.at(name + "/value");
+      const auto& width = saved.at(name + "/width");
+      if (time.size() != steps.size() || width.size() != steps.size())
+        throw std::invalid_argument("checkpoint series '" + name + "' is inconsistent");
+      std::size_t at = 0;
+      for (std::size_t k = 0; k < steps.size(); ++k) {
+        const auto w = static_cast<std::size_t>(width[k]);
+        if (at + w > value.size()) throw std::invalid_argument("checkpoint series '" + name + "' is truncated");
+        append(file, name,
+               {static_cast<std::int64_t>(steps[k]), time[k],
+                {value.begin() + static_cast<std::ptrdiff_t>(at), value.begin() + static_cast<std::ptrdiff_t>(at + w)}});
+        at += w;
+      }
+    }
+  }
+
+ private:
+  std::vector<std::string> observables_;
+  ObservableHistory history_;
+};
+
+}  // namespace granflow

@@ -1,0 +1,331 @@
+#include "engine/runner.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <tbb/parallel_for.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
+#include <optional>
+
+#include "engine/checkpoint_file.hpp"
+#include "engine/h5md_file.hpp"
+#include "engine/h5md_reader.hpp"
+#include "engine/interrupt.hpp"
+#include "engine/profiler.hpp"
+#include "engine/progress.hpp"
+#include "engine/rng.hpp"
+#include "engine/run.hpp"
+#include "engine/stream_ids.hpp"
+
+namespace granflow {
+
+std::uint64_t member_seed(std::int64_t base, std::size_t member) {
+  if (member == 0) return static_cast<std::uint64_t>(base);
+  // Non-negative, as run.seed requires, so a member's seed can be given back as run.seed.
+  return derived_seed(stream::ensemble_seed, static_cast<std::uint64_t>(base), member) >> 1;
+}
+
+namespace {
+
+// Fails before any work when the result file cannot be written there.
+void check_output_path(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (fs::is_directory(path, error))
+    throw InputError(fmt::format("output '{}' is a directory; give a file name with -o", path));
+  const fs::path parent = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
+  if (!fs::is_directory(parent, error))
+    throw InputError(fmt::format("cannot write output '{}': directory '{}' does not exist", path, parent.string()));
+  if (::access(parent.c_str(), W_OK) != 0)
+    throw InputError(fmt::format("cannot write output '{}': {}", path, std::strerror(errno)));
+  if (fs::exists(path, error) && ::access(path.c_str(), W_OK) != 0)
+    throw InputError(fmt::format("cannot replace output '{}': {}", path, std::strerror(errno)));
+}
+
+// A fresh run never deletes a checkpoint it did not write: one of another
+// configuration stops the run; one of this very configuration (an
+// interrupted earlier attempt) is replaced, and that is said.
+void check_existing_checkpoint(const std::string& path, const Config& config) {
+  if (!std::filesystem::exists(path)) return;
+  std::string stored;
+  try {
+    stored = H5mdReader(path).string_dataset("/parameters/toml");
+  } catch (const H5Error&) {
+    throw InputError(fmt::format("'{}' exists but is not a readable checkpoint; delete it or choose another -o", path));
+  }
+  if (stored != config.to_toml())
+    throw InputError(fmt::format("checkpoint '{}' of another configuration is in the way; continue it with --resume and "
+                                 "its configuration, delete it, or choose another -o",
+                                 path));
+  spdlog::warn("starting afresh: the checkpoint '{}' of an earlier, unfinished run of this configuration will be "
+               "replaced (--resume continues it instead)",
+               path);
+}
+
+CheckpointContents load_for_resume(const std::string& path, const ConfigSchema& schema, const Config& config) {
+  if (!std::filesystem::exists(path))
+    throw InputError(fmt::format("--resume: there is no checkpoint '{}' to resume from", path));
+  CheckpointContents contents = read_checkpoint(path);
+  Config stored;
+  try {
+    stored = Config::from_toml_text(schema, contents.configuration, path);
+  } catch (const ConfigError& error) {
+    throw InputError(fmt::format("--resume: checkpoint '{}' does not fit this scenario's keys ({})", path, error.what()));
+  }
+  const auto conflicts = config.resume_conflicts(stored);
+  if (!conflicts.empty()) {
+    std::string list;
+    for (const auto& key : conflicts)
+      list += fmt::format("{}{} (checkpoint: {}, now: {})", list.empty() ? "" : ", ", key,
+                          stored.values().count(key) ? to_string(stored.values().at(key)) : "-",
+                          config.values().count(key) ? to_string(config.values().at(key)) : "-");
+    throw InputError(fmt::format("--resume: checkpoint '{}' was written with other values of keys that change the "
+                                 "physics: {}; resume with the same file and --set options, or delete the checkpoint",
+                                 path, list));
+  }
+  return contents;
+}
+
+std::string output_path_of(const Scenario& scenario, const RunOptions& options) {
+  return options.output_path.empty() ? scenario.default_output : options.output_path;
+}
+
+void report_interruption(int signal_number, const std::string& checkpoint, const std::string& what) {
+  spdlog::warn("interrupted (signal {}) {}; the state is saved in '{}': run the same command with --resume to "
+               "continue",
+               signal_number, what, checkpoint);
+}
+
+int single_run(const Scenario& scenario, const Config& config, const RunOptions& options) {
+  const std::string output = output_path_of(scenario, options);
+  const std::string checkpoint = output + ".checkpoint";
+  check_output_path(output);
+  std::optional<CheckpointContents> resumed;
+  if (options.resume)
+    resumed = load_for_resume(checkpoint, config.schema(), config);
+  else
+    check_existing_checkpoint(checkpoint, config);
+  if (std::filesystem::exists(output)) spdlog::info("replacing the existing result file '{}'", output);
+
+  H5mdFile file(output, scenario.name);
+  file.write_parameters(config);
+  Profiler profiler;
+  Run run(config, profiler, static_cast<std::uint64_t>(config.integer("run.seed")), 0,
+          resumed ? &resumed->state : nullptr, &file);
+  scenario.build(run);
+  run.prepare();
+  if (resumed) spdlog::info("resuming from '{}' at t = {:.6g}", checkpoint, run.clock().time);
+
+  std::optional<InterruptGuard> guard;
+  if (options.handle_signals) guard.emplace();
+  Progress progress(scenario.name, run.rate_unit(), options.progress);
+  const double interval = config.real("output.checkpoint_interval");
+  auto last_checkpoint = std::chrono::steady_clock::now();
+  const auto after_round = [&] {
+    progress.update(run.progress_fraction(), run.work_done());
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_checkpoint).count() >= interval) {
+      write_checkpoint(checkpoint, scenario.name, config, run.save());
+      last_checkpoint = std::chrono::steady_clock::now();
+    }
+  };
+  const RunOutcome outcome = run.execute(guard ? &guard->requested() : nullptr, after_round);
+  progress.finish();
+  if (outcome.kind == RunOutcome::Kind::interrupted) {
+    write_checkpoint(checkpoint, scenario.name, config, run.save());
+    report_interruption(guard->signal_number(), checkpoint, fmt::format("at t = {:.6g}", run.clock().time));
+    return exit_interrupted(guard->signal_number());
+  }
+  run.write_results(outcome);
+  file.write_profile(profiler.entries());
+  file.finish();
+  if (config.boolean("output.final_checkpoint"))
+    write_checkpoint(checkpoint, scenario.name, config, run.save());
+  else
+    std::filesystem::remove(checkpoint);
+  if (options.profile) fmt::print("{}", profiler.table());
+  spdlog::info("wrote {} (t = {:.6g}: {})", output, run.clock().time, outcome.reason);
+  if (outcome.kind == RunOutcome::Kind::failed) {
+    spdlog::error("{}", outcome.reason);
+    return exit_physics_failed;
+  }
+  return exit_finished;
+}
+
+EnsembleMember member_record(const Run& run) {
+  EnsembleMember member;
+  member.history = run.recorder().history();
+  for (const auto& [name, value] : run.derived_values()) member.derived[name] = value;
+  return member;
+}
+
+// Runs every member not yet finished, in parallel: members are independent
+// worlds, each a deterministic function of its seed. `done` is called with
+// each member's outcome (under no lock), `round` after each of its rounds.
+void run_members(const Scenario& scenario, const Config& config, Profiler& profiler,
+                 const std::atomic<bool>* interrupt, const std::vector<std::optional<EnsembleMember>>& finished,
+                 std::vector<StateMap>& in_progress,
+                 const std::function<void(std::size_t, Run&, const RunOutcome&)>& done,
+                 const std::function<void(std::size_t, const Run&)>& round) {
+  tbb::parallel_for(std::size_t{0}, finished.size(), [&](std::size_t r) {
+    if (finished[r] || (interrupt && interrupt->load())) return;
+    StateMap from;
+    from.swap(in_progress[r]);  // each member touches only its own entry
+    Run run(config, profiler, member_seed(config.integer("run.seed"), r), r, from.empty() ? nullptr : &from, nullptr);
+    scenario.build(run);
+    run.prepare();
+    const RunOutcome outcome = run.execute(interrupt, [&] {
+      if (round) round(r, run);
+    });
+    done(r, run, outcome);
+  });
+}
+
+std::string member_prefix(std::size_t member) { return fmt::format("member{}", member); }
+
+int ensemble_run(const Scenario& scenario, const Config& config, const RunOptions& options) {
+  const std::string output = output_path_of(scenario, options);
+  const std::string checkpoint = output + ".checkpoint";
+  check_output_path(output);
+  const std::size_t count = scenario.members(config);
+  if (count == 0) throw ConfigError(fmt::format("{}: the ensemble has no members", scenario.name));
+  std::vector<std::optional<EnsembleMember>> finished(count);
+  std::vector<StateMap> in_progress(count);
+  if (options.resume) {
+    const auto contents = load_for_resume(checkpoint, config.schema(), config);
+    for (std::size_t r = 0; r < count; ++r) {
+      const std::string prefix = member_prefix(r);
+      if (contents.state.count(prefix + "/done")) {
+        EnsembleMember member;
+        ObservableRecorder replayed({});
+        replayed.replay(nullptr, state_under(contents.state, prefix + "/history"));
+        member.history = replayed.history();
+        for (const auto& [name, value] : state_under(contents.state, prefix + "/derived"))
+          if (value.size() == 1) member.derived[name] = value[0];
+        finished[r] = std::move(member);
+      } else {
+        in_progress[r] = state_under(contents.state, prefix + "/run");
+      }
+    }
+    spdlog::info("resuming from '{}': {} of {} runs done", checkpoint,
+                 std::count_if(finished.begin(), finished.end(), [](const auto& m) { return m.has_value(); }), count);
+  } else {
+    check_existing_checkpoint(checkpoint, config);
+  }
+  if (std::filesystem::exists(output)) spdlog::info("replacing the existing result file '{}'", output);
+  H5mdFile file(output, scenario.name);
+  file.write_parameters(config);
+
+  const auto save = [&] {
+    StateMap state;
+    for (std::size_t r = 0; r < count; ++r) {
+      const std::string prefix = member_prefix(r);
+      if (finished[r]) {
+        state[prefix + "/done"] = {1.0};
+        ObservableRecorder history({});
+        for (const auto& [name, samples] : finished[r]->history)
+          for (const auto& s : samples) history.append(nullptr, name, s);
+        put_state_under(state, prefix + "/history", history.save_history());
+        for (const auto& [name, value] : finished[r]->derived) state[prefix + "/derived/" + name] = {value};
+      } else if (!in_progress[r].empty()) {
+        put_state_under(state, prefix + "/run", in_progress[r]);
+      }
+    }
+    write_checkpoint(checkpoint, scenario.name, config, state);
+  };
+
+  std::optional<InterruptGuard> guard;
+  if (options.handle_signals) guard.emplace();
+  const std::atomic<bool>* interrupt = guard ? &guard->requested() : nullptr;
+  Profiler profiler;
+  Progress progress(scenario.name, "runs/s", options.progress);
+  std::mutex lock;
+  std::vector<double> fraction(count, 0.0);
+  for (std::size_t r = 0; r < count; ++r)
+    if (finished[r]) fraction[r] = 1.0;
+  const auto show = [&] {
+    double sum = 0.0;
+    for (double f : fraction) sum += f;
+    progress.update(sum / static_cast<double>(count), sum,
+                    fmt::format("{}/{} runs", std::count(fraction.begin(), fraction.end(), 1.0), count));
+  };
+  std::optional<std::pair<std::size_t, std::string>> failure;
+  bool interrupted = false;
+  run_members(scenario, config, profiler, interrupt, finished, in_progress, [&](std::size_t r, Run& run, const RunOutcome& outcome) {
+    std::lock_guard hold(lock);
+    if (outcome.kind == RunOutcome::Kind::interrupted) {
+      in_progress[r] = run.save();
+      interrupted = true;
+      return;
+    }
+    if (outcome.kind == RunOutcome::Kind::failed && (!failure || r < failure->first)) failure.emplace(r, outcome.reason);
+    finished[r] = member_record(run);
+    fraction[r] = 1.0;
+    show();
+    if (std::any_of(finished.begin(), finished.end(), [](const auto& m) { return !m; })) save();
+  }, [&](std::size_t r, const Run& run) {
+    std::lock_guard hold(lock);
+    fraction[r] = std::min(run.progress_fraction(), 0.999);
+    show();
+  });
+  progress.finish();
+  if (interrupted || (interrupt && interrupt->load() &&
+                      std::any_of(finished.begin(), finished.end(), [](const auto& m) { return !m; }))) {
+    save();
+    report_interruption(guard->signal_number(), checkpoint,
+                        fmt::format("with {} of {} runs done",
+                                    std::count_if(finished.begin(), finished.end(), [](const auto& m) { return m.has_value(); }),
+                                    count));
+    return exit_interrupted(guard->signal_number());
+  }
+  if (failure) {
+    spdlog::error("run {}: {}", failure->first, failure->second);
+    file.write_attribute("/observables", "stop_reason", fmt::format("run {}: {}", failure->first, failure->second));
+    file.write_profile(profiler.entries());
+    file.finish();
+    std::filesystem::remove(checkpoint);
+    return exit_physics_failed;
+  }
+  EnsembleResults results{config, {}};
+  for (auto& member : finished) results.members.push_back(std::move(*member));
+  scenario.reduce(results, file);
+  file.write_profile(profiler.entries());
+  file.finish();
+  std::filesystem::remove(checkpoint);
+  if (options.profile) fmt::print("{}", profiler.table());
+  spdlog::info("wrote {} ({} runs)", output, count);
+  return exit_finished;
+}
+
+}  // namespace
+
+EnsembleResults simulate_ensemble(const Scenario& scenario, const Config& config) {
+  if (!scenario.ensemble()) throw std::logic_error("simulate_ensemble: '" + scenario.name + "' is not an ensemble");
+  const std::size_t count = scenario.members(config);
+  std::vector<std::optional<EnsembleMember>> finished(count);
+  std::vector<StateMap> in_progress(count);
+  Profiler profiler;
+  std::mutex lock;
+  std::optional<std::string> failure;
+  run_members(scenario, config, profiler, nullptr, finished, in_progress,
+              [&](std::size_t r, Run& run, const RunOutcome& outcome) {
+                std::lock_guard hold(lock);
+                if (outcome.kind == RunOutcome::Kind::failed) failure = outcome.reason;
+                finished[r] = member_record(run);
+              }, {});
+  if (failure) throw PhysicsFailure(*failure);
+  EnsembleResults results{config, {}};
+  for (auto& member : finished) results.members.push_back(std::move(*member));
+  return results;
+}
+
+int run_scenario(const Scenario& scenario, const Config& config, const RunOptions& options) {
+  return scenario.ensemble() ? ensemble_run(scenario, config, options) : single_run(scenario, config, options);
+}
+
+}  // namespace granflow

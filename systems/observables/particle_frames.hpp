@@ -1,0 +1,63 @@
+#pragma once
+// Particle frames (positions and velocities in particle-id order) written to
+// /particles/all/{position,velocity}, with the one output.positions policy of
+// every scenario: none, final (at the end), first_last (at t = 0 and at the
+// end) or all (whenever the scenario's output trigger fires).
+
+#include <spdlog/spdlog.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "components/clock.hpp"
+#include "components/particle_id.hpp"
+#include "components/position.hpp"
+#include "components/velocity.hpp"
+#include "engine/config.hpp"
+#include "engine/output_file.hpp"
+#include "engine/particle_output.hpp"
+#include "engine/run.hpp"
+#include "engine/system.hpp"
+
+namespace granflow {
+
+template <int D>
+class ParticleFrameWriter : public System {
+ public:
+  std::string name() const override { return "write_particle_frames"; }
+  Access access() const override { return Access{}.reads<Position<D>, Velocity<D>, ParticleId, Clock>().template writes<OutputFile>(); }
+  void run(World& world) override {
+    H5mdFile* file = world.resource<OutputFile>().file;
+    if (!file) return;
+    const auto& clock = world.resource<Clock>();
+    append_particle_frame<D>(*file, world, clock.step, clock.time);
+  }
+};
+
+inline void declare_frame_keys(ConfigSchema& schema, const std::string& default_policy,
+                               std::vector<std::string> policies = {"none", "final", "first_last", "all"}) {
+  schema.choice("output.positions", default_policy, std::move(policies),
+                "particle positions and velocities: not at all, at the end, at the start and the end, or at every "
+                "output time");
+}
+
+// `outputs`: the scenario's output trigger, for the policy "all".
+template <int D>
+void add_particle_frames(Run& run, const TriggerPtr& outputs) {
+  const std::string policy = run.config().text("output.positions");
+  TriggerPtr when;
+  if (policy == "final")
+    when = std::make_shared<AtEnd>();
+  else if (policy == "first_last")
+    when = std::make_shared<AnyOf>(
+        std::vector<TriggerPtr>{std::make_shared<AtTimes>(std::vector<double>{0.0}), std::make_shared<AtEnd>()});
+  else if (policy == "all")
+    when = outputs;
+  if (!when) return;
+  if (run.resuming() && policy != "final")
+    spdlog::warn("output.positions = \"{}\": frames written before the checkpoint are not carried over", policy);
+  run.observe<ParticleFrameWriter<D>>(when);
+}
+
+}  // namespace granflow

@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# SIGINT stops a run at its next safe point: it exits 130, leaves no result
+# file (and no .partial), writes a checkpoint and says how to resume; the
+# same command with --resume then gives the same observables as an
+# uninterrupted run, bit for bit. One event-driven run (haff_cooling), one
+# ensemble of event-driven runs (brownian_edmd) and one SDE ensemble
+# interrupted inside its only run (langevin_msd, run.runs = 1).
+set -u
+granflow="$1"
+scenarios="$2"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+
+check() {  # check NAME TOML "observables..." ARGS...
+  local name="$1" toml="$2" observables="$3"; shift 3
+  "$granflow" run "$scenarios/$toml" "$@" -q -o "$work/$name-whole.h5" || { echo "FAIL: $name uninterrupted"; failures=$((failures + 1)); return; }
+  "$granflow" run "$scenarios/$toml" "$@" -o "$work/$name-cut.h5" 2> "$work/$name.log" &
+  local pid=$!
+  sleep "$DELAY"
+  kill -INT $pid
+  wait $pid; local status=$?
+  if [[ $status -ne 130 ]]; then
+    echo "FAIL: $name interrupted exited with $status, expected 130 (raise its size if it finished first)"; cat "$work/$name.log"
+    failures=$((failures + 1)); return
+  fi
+  [[ -e "$work/$name-cut.h5" || -e "$work/$name-cut.h5.partial" ]] && { echo "FAIL: $name left a result file"; failures=$((failures + 1)); }
+  [[ -e "$work/$name-cut.h5.checkpoint" ]] || { echo "FAIL: $name wrote no checkpoint"; failures=$((failures + 1)); return; }
+  grep -q -- "--resume" "$work/$name.log" || { echo "FAIL: $name did not say how to resume"; failures=$((failures + 1)); }
+  "$granflow" run "$scenarios/$toml" "$@" -q -o "$work/$name-cut.h5" --resume || { echo "FAIL: $name --resume"; failures=$((failures + 1)); return; }
+  /usr/bin/python3 - "$work/$name-whole.h5" "$work/$name-cut.h5" $observables <<'PY' || failures=$((failures + 1))
+import sys, h5py, numpy as np
+a, b = (h5py.File(p, "r") for p in sys.argv[1:3])
+for name in sys.argv[3:]:
+    for part in ("step", "time", "value"):
+        x, y = a[f"/observables/{name}/{part}"][()], b[f"/observables/{name}/{part}"][()]
+        if not np.array_equal(x, y):
+            sys.exit(f"FAIL: resumed {name}/{part} differs from the uninterrupted run")
+assert "/profile/system" in b, "no /profile"
+print(f"ok: {sys.argv[2]} interrupted and resumed equals the uninterrupted run")
+PY
+}
+
+DELAY=1.5 check haff haff_cooling.toml "kinetic_energy temperature collisions_per_particle" \
+  --set system.count=30000 --set system.radius=0.008 --set run.t_stop=40 --set initial.equilibration_collisions=5
+DELAY=1.5 check brownian brownian_edmd.toml "msd msd_stderr time_averaged_msd ergodicity_breaking" \
+  --set run.runs=4 --set run.t_stop=300 --set system.count=500 --set system.radius=0.03
+DELAY=1.5 check langevin langevin_msd.toml "msd time_averaged_msd ergodicity_breaking" \
+  --set run.runs=1 --set run.t_stop=20 --set system.count=200000 --set msd.time_average_particles=200
+
+echo "$failures failure(s)"
+[[ $failures -eq 0 ]]
