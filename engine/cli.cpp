@@ -18,6 +18,7 @@
 #include "engine/scenario.hpp"
 #include "engine/sweep_plan.hpp"
 #include "engine/sweep_runner.hpp"
+#include "engine/system_catalogue.hpp"
 #include "engine/version.hpp"
 
 namespace granflow {
@@ -46,6 +47,8 @@ int run_command(const std::string& file, const std::vector<std::string>& overrid
 void list_command() {
   fmt::print("scenarios:\n");
   for (const auto* s : scenario_registry().all()) fmt::print("  {:<28} {}\n", s->name, s->summary);
+  fmt::print("systems:\n");
+  for (const auto& [name, summary] : system_catalogue()) fmt::print("  {:<33} {}\n", name, summary);
 }
 
 void keys_command(const std::string& name) {
@@ -117,7 +120,7 @@ int main(int argc, char** argv) {
   sweep->add_option("-o,--output", sweep_output, "result directory (default: the file's `output`)");
   sweep->add_flag("-q,--quiet", quiet, "no progress or info messages");
 
-  auto* list = app.add_subcommand("list", "list the scenarios");
+  auto* list = app.add_subcommand("list", "list scenarios and systems");
   std::string info_path;
   auto* info = app.add_subcommand("info", "describe a result file");
   info->add_option("file", info_path, "H5MD result file")->required();

@@ -14,9 +14,12 @@
 #include "engine/output_file.hpp"
 #include "engine/state_map.hpp"
 #include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
 
 namespace granflow {
+
+inline const SystemDescription write_observables_description{"write_observables", "appends fresh observables to /observables/<name>/{step,time,value}"};
 
 struct ObservableSample {
   std::int64_t step;

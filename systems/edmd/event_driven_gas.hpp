@@ -361,21 +361,21 @@ class EventDrivenGas : public Stateful {
   // Z-order (Morton) of the cells: a cell's neighbours in every direction
   // lie in a few short runs of memory, not in 3^(D-1) rows far apart.
   static std::uint64_t morton_key(const std::array<std::int32_t, D>& c) {
-    std::uint64_t key = 0;
+    std::uint64_t code = 0;
     for (int bit = 0; bit < 21; ++bit)
       for (int a = 0; a < D; ++a)
-        key |= static_cast<std::uint64_t>((c[a] >> bit) & 1) << (bit * D + a);
-    return key;
+        code |= static_cast<std::uint64_t>((c[a] >> bit) & 1) << (bit * D + a);
+    return code;
   }
 
   void sort_by_cell() {
     const auto& position = world_.template component<Position<D>>();
-    std::vector<std::uint64_t> key(world_.size());
+    std::vector<std::uint64_t> morton(world_.size());
     for (std::size_t i = 0; i < world_.size(); ++i)
-      key[i] = morton_key(grid_.coordinates(grid_.locate(position[i])));
+      morton[i] = morton_key(grid_.coordinates(grid_.locate(position[i])));
     std::vector<std::uint32_t> order(world_.size());
     std::iota(order.begin(), order.end(), 0u);
-    std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return key[a] < key[b]; });
+    std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return morton[a] < morton[b]; });
     world_.permute(order);
   }
 

@@ -15,9 +15,12 @@
 #include "components/velocity.hpp"
 #include "engine/run_control.hpp"
 #include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 
 namespace granflow::edmd {
+
+inline const SystemDescription edmd_advance_description{"edmd_advance", "event-driven hard spheres/disks up to the next target time or collision count (cells, O(1) calendar, TC model)"};
 
 template <int D>
 class EventDrivenStep : public System {

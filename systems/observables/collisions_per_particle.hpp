@@ -4,9 +4,12 @@
 
 #include "engine/observable_store.hpp"
 #include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 
 namespace granflow {
+
+inline const SystemDescription observe_collisions_per_particle_description{"observe_collisions_per_particle", "2 x pair collisions / N"};
 
 template <int D>
 class CollisionsPerParticleObserver : public System {

@@ -17,9 +17,12 @@
 #include "engine/observable_store.hpp"
 #include "engine/state_map.hpp"
 #include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
 
 namespace granflow {
+
+inline const SystemDescription observe_crater_description{"observe_crater", "crater_size (bed disks displaced beyond a threshold) and projectile_depth"};
 
 template <int D>
 class CraterObserver : public System, public Stateful {

@@ -7,9 +7,12 @@
 #include "engine/deterministic_sum.hpp"
 #include "engine/observable_store.hpp"
 #include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
 
 namespace granflow {
+
+inline const SystemDescription observe_kinetic_energy_description{"observe_kinetic_energy", "mean kinetic energy per particle and temperature T = (2/d)<E_kin>"};
 
 template <int D>
 double total_kinetic_energy(const World& world) {

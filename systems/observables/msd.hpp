@@ -17,9 +17,12 @@
 #include "engine/observable_store.hpp"
 #include "engine/state_map.hpp"
 #include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
 
 namespace granflow {
+
+inline const SystemDescription observe_msd_description{"observe_msd", "ensemble mean squared displacement from unwrapped positions"};
 
 // Unwrapped positions and particle ids of a world, with the component and
 // resource lookups done once rather than per particle.

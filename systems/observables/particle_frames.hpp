@@ -19,8 +19,11 @@
 #include "engine/particle_output.hpp"
 #include "engine/run.hpp"
 #include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
 
 namespace granflow {
+
+inline const SystemDescription write_particle_frames_description{"write_particle_frames", "particle positions and velocities to /particles/all, by the output.positions policy"};
 
 template <int D>
 class ParticleFrameWriter : public System {

@@ -10,9 +10,12 @@
 #include "components/velocity.hpp"
 #include "engine/observable_store.hpp"
 #include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
 
 namespace granflow {
+
+inline const SystemDescription observe_kinetic_energy_by_species_description{"observe_kinetic_energy_by_species", "mean kinetic energy per particle of each species of a mixture"};
 
 template <int D>
 std::vector<double> species_kinetic_energies(const World& world, std::size_t species_count) {

@@ -18,11 +18,14 @@
 #include "engine/run_control.hpp"
 #include "engine/state_map.hpp"
 #include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
 #include "engine/trigger.hpp"
 #include "systems/observables/msd.hpp"
 #include "systems/observables/multiple_tau_msd.hpp"
 
 namespace granflow {
+
+inline const SystemDescription observe_time_averaged_msd_description{"observe_time_averaged_msd", "time-averaged MSD and ergodicity breaking, multiple-tau correlator"};
 
 struct MsdDefaults {
   std::int64_t time_average_particles = 0;

@@ -28,11 +28,14 @@
 #include "engine/run_control.hpp"
 #include "engine/stream_ids.hpp"
 #include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
 #include "systems/sde/sde_kernel.hpp"
 #include "systems/sde/sde_model.hpp"
 
 namespace granflow::sde {
+
+inline const SystemDescription sde_advance_description{"sde_advance", "one Langevin / UDSBM step of independent particles (Euler-Maruyama or exact OU), parallel_for"};
 
 template <int D>
 class SdeAdvance : public System {

@@ -58,7 +58,9 @@ system.boundary = ["periodic", "reflecting"]
   std::set<std::int64_t> seeds;
   for (const auto& run : plan.runs) {
     EXPECT_EQ(run.config.integer("run.seed"), run.seed);
-    if (run.repeat == 0) EXPECT_EQ(run.seed, 1);
+    if (run.repeat == 0) {
+      EXPECT_EQ(run.seed, 1);
+    }
     seeds.insert(run.seed);
   }
   EXPECT_EQ(seeds.size(), 2u);

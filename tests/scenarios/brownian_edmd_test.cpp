@@ -65,8 +65,11 @@ TEST(BrownianEdmd, GranularGasCrossesOverFromBallisticToLogarithmic) {
   const double grow = r.msd.back() / r.msd[k0];
   const double logarithmic = std::log1p(r.time.back() / tau0) / std::log1p(r.time[k0] / tau0);
   EXPECT_NEAR(grow / logarithmic, 1.0, 0.15) << "MSD grew " << grow << "x, ln(1 + t/tau0) " << logarithmic << "x";
-  for (std::size_t k = 0; k < r.lag.size(); ++k)
-    if (r.lag[k] <= 5.0) EXPECT_LT(r.time_averaged_msd[k] / interpolate(r.time, r.msd, r.lag[k]), 0.5);
+  for (std::size_t k = 0; k < r.lag.size(); ++k) {
+    if (r.lag[k] <= 5.0) {
+      EXPECT_LT(r.time_averaged_msd[k] / interpolate(r.time, r.msd, r.lag[k]), 0.5);
+    }
+  }
 }
 
 TEST(BrownianEdmd, SameResultOnOneAndTwoThreads) {
