@@ -19,11 +19,14 @@ struct Case {
   bool periodic;
   double restitution;
   double packing_fraction;
+  double contact_time = 0.0;        // TC model
+  std::uint64_t resort_every = 0;   // pair collisions between re-sorts of the fast engine (0: its own choice)
 };
 
 std::string label(const Case& c) {
-  return fmt::format("{}D_{}_xi{:03.0f}_eta{:03.0f}", c.dimension, c.periodic ? "periodic" : "reflecting",
-                     100 * c.restitution, 100 * c.packing_fraction);
+  return fmt::format("{}D_{}_xi{:03.0f}_eta{:03.0f}{}{}", c.dimension, c.periodic ? "periodic" : "reflecting",
+                     100 * c.restitution, 100 * c.packing_fraction, c.contact_time > 0 ? "_tc" : "",
+                     c.resort_every ? fmt::format("_resort{}", c.resort_every) : "");
 }
 
 // In 500 events each of 64 particles collides about 15 times; every
@@ -40,7 +43,9 @@ std::vector<EventRecord> event_sequence(const Case& c, std::size_t events, std::
   CollisionParameters parameters;
   parameters.restitution = c.restitution;
   parameters.wall_restitution = c.restitution;
+  parameters.contact_time = c.contact_time;
   Engine engine(world, parameters);
+  if constexpr (requires { engine.set_resort_interval(1); }) engine.set_resort_interval(c.resort_every);
   std::vector<EventRecord> records;
   engine.set_event_observer([&](const EventRecord& r) {
     if (records.size() < events) records.push_back(r);
@@ -49,6 +54,12 @@ std::vector<EventRecord> event_sequence(const Case& c, std::size_t events, std::
   while (records.size() < events) {
     const auto reason = engine.advance(engine.time() + 1.0);
     if (reason != StopReason::reached_time) break;
+  }
+  // The re-sort path (World::permute, cells and events rebuilt) must really have run.
+  if constexpr (requires { engine.resorts(); }) {
+    if (c.resort_every > 0) {
+      EXPECT_GE(engine.resorts(), events / c.resort_every / 2) << label(c);
+    }
   }
   return records;
 }
@@ -66,6 +77,14 @@ void expect_same_sequence(const Case& c) {
       ASSERT_EQ(pair(fast[k]), pair(slow[k])) << label(c) << " seed " << seed << ": event " << k << " differs";
       ASSERT_NEAR(fast[k].time, slow[k].time, 1e-9 * std::abs(slow[k].time))
           << label(c) << " seed " << seed << ": event " << k;
+    }
+    if (c.contact_time > 0) {
+      Case without = c;
+      without.contact_time = 0.0;
+      const auto plain = event_sequence<D, EventDrivenGas<D>>(without, events, seed);
+      bool differs = false;
+      for (std::size_t k = 0; k < events && !differs; ++k) differs = plain[k].time != fast[k].time;
+      EXPECT_TRUE(differs) << label(c) << ": contact_time changed no collision; the TC case tests nothing";
     }
   }
 }
@@ -87,6 +106,16 @@ INSTANTIATE_TEST_SUITE_P(AllGeometries, SequenceTest,
                                            Case{2, true, 0.8, 0.45}, Case{2, false, 0.8, 0.45},
                                            Case{3, true, 1.0, 0.25}, Case{3, false, 1.0, 0.25},
                                            Case{3, true, 0.8, 0.25}, Case{3, false, 0.8, 0.25}),
+                         [](const auto& test) { return label(test.param); });
+
+// The TC model (collisions within contact_time of a particle's previous one
+// are elastic; the test checks that it changes the sequence) and re-sorts
+// every 37 collisions (the path large gases take every 10 collisions per
+// particle), each against the reference, which never re-sorts.
+INSTANTIATE_TEST_SUITE_P(ContactTimeAndResort, SequenceTest,
+                         ::testing::Values(Case{2, true, 0.5, 0.45, 0.005}, Case{3, false, 0.5, 0.25, 0.005},
+                                           Case{2, true, 0.8, 0.45, 0.0, 37}, Case{3, true, 0.8, 0.25, 0.0, 37},
+                                           Case{3, false, 0.5, 0.25, 0.005, 37}),
                          [](const auto& test) { return label(test.param); });
 
 // Block averages of dimensionless rates. After each block the velocities are
