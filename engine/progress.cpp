@@ -35,9 +35,10 @@ void Progress::update(double fraction, double work, const std::string& detail) {
   fraction = std::clamp(fraction, 0.0, 1.0);
   const double rate = elapsed > 0 ? work / elapsed : 0.0;
   const double eta = fraction > 0 ? elapsed * (1.0 - fraction) / fraction : -1.0;
-  const std::string line = fmt::format("{}: {:5.1f}%{} | {:.3g} {} | elapsed {} | ETA {}", label_, 100.0 * fraction,
-                                       detail.empty() ? "" : " (" + detail + ")", rate, rate_unit_,
-                                       duration_text(elapsed), duration_text(eta));
+  const std::string rate_text = rate_unit_.empty() ? "" : fmt::format(" | {:.3g} {}", rate, rate_unit_);
+  const std::string line = fmt::format("{}: {:5.1f}%{}{} | elapsed {} | ETA {}", label_, 100.0 * fraction,
+                                       detail.empty() ? "" : " (" + detail + ")", rate_text, duration_text(elapsed),
+                                       duration_text(eta));
   if (terminal_)
     fmt::print(stderr, "\r{:<90}", line);
   else

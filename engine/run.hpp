@@ -107,6 +107,11 @@ class Run {
     box_edges_ = std::move(edges);
     box_boundary_ = std::move(boundary);
   }
+  // Progress of a long preparation of the initial state (an equilibration),
+  // shown like the run's own.
+  void setup_progress(const std::string& phase, double fraction) const {
+    if (setup_progress_) setup_progress_(phase, fraction);
+  }
   // Output written when the run ends (histograms, totals, a log line); single runs only.
   void at_finish(std::function<void(H5mdFile&, const RunOutcome&)> hook) { finish_hooks_.push_back(std::move(hook)); }
 
@@ -127,6 +132,7 @@ class Run {
   const std::vector<double>& box_edges() const { return box_edges_; }
   const std::vector<std::string>& box_boundary() const { return box_boundary_; }
   H5mdFile* file() const { return file_; }
+  void on_setup_progress(std::function<void(const std::string&, double)> report) { setup_progress_ = std::move(report); }
 
  private:
   void add_trigger(const TriggerPtr& trigger);
@@ -157,6 +163,7 @@ class Run {
   std::vector<double> box_edges_;
   std::vector<std::string> box_boundary_;
   std::vector<std::function<void(H5mdFile&, const RunOutcome&)>> finish_hooks_;
+  std::function<void(const std::string&, double)> setup_progress_;
   // Time and step of the last round of observers (every trigger has passed them).
   double round_time_ = -std::numeric_limits<double>::infinity();
   std::int64_t round_step_ = -1;

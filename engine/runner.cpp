@@ -117,7 +117,13 @@ int single_run(const Scenario& scenario, const Config& config, const RunOptions&
   Profiler profiler;
   Run run(config, profiler, static_cast<std::uint64_t>(config.integer("run.seed")), 0,
           resumed ? &resumed->state : nullptr, &file);
-  scenario.build(run);
+  {
+    Progress setup(scenario.name + " setup", "", options.progress);
+    run.on_setup_progress([&setup](const std::string& phase, double fraction) { setup.update(fraction, 0.0, phase); });
+    scenario.build(run);
+    setup.finish();
+    run.on_setup_progress({});
+  }
   run.prepare();
   if (resumed) spdlog::info("resuming from '{}' at t = {:.6g}", checkpoint, run.clock().time);
 

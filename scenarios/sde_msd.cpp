@@ -18,12 +18,15 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <tbb/task_arena.h>
+
 #include <cmath>
 
 #include "components/position.hpp"
 #include "components/velocity.hpp"
 #include "engine/ensemble_keys.hpp"
 #include "engine/h5md_file.hpp"
+#include "engine/memory_check.hpp"
 #include "engine/output_times.hpp"
 #include "engine/rng.hpp"
 #include "engine/run.hpp"
@@ -138,6 +141,10 @@ void build(Run& run) {
                  "is only right at times of many steps",
                  model.gamma0 * s.dt);
   const auto count = static_cast<std::size_t>(c.integer("system.count"));
+  // Position, velocity and MSD origin per particle, for every run going at once.
+  const auto at_once = std::min<std::size_t>(ensemble_members(c), tbb::this_task_arena::max_concurrency());
+  require_memory(fmt::format("system.count = {} with {} runs at a time", count, at_once),
+                 3.0 * 8.0 * D * static_cast<double>(count) * static_cast<double>(at_once));
   const bool stationary = c.text("initial.velocity") == "stationary";
   run.initial_state([&](World& world) {
     world.resize(count);

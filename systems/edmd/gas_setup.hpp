@@ -19,6 +19,7 @@
 #include "components/radius.hpp"
 #include "components/velocity.hpp"
 #include "engine/config.hpp"
+#include "engine/memory_check.hpp"
 #include "engine/world.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 #include "systems/initial/initial_velocities.hpp"
@@ -92,13 +93,30 @@ inline AdvanceLimits advance_limits_from(const Config& config, std::size_t count
   return limits;
 }
 
+// What an event-driven gas holds per particle (the engine's figure is
+// 190-200 bytes, docs/performance.md) plus the placement's scratch space.
+inline constexpr double bytes_per_particle_estimate = 280.0;
+
 // Fills an empty world (of system.count entities) with the configured gas at
 // t = 0. `customize` may change masses, radii or add components (a mixture's
 // species) before particles are placed and given velocities.
+// `progress` hears the fraction of the equilibration done.
 template <int D>
 void build_gas(World& world, const Config& config, std::uint64_t seed,
-               const std::function<void(World&)>& customize = {}) {
+               const std::function<void(World&)>& customize = {},
+               const std::function<void(double)>& progress = {}) {
   const auto count = static_cast<std::size_t>(config.integer("system.count"));
+  // Impossible sizes fail here, before anything is allocated.
+  if (!customize) {
+    const Box<D> box = box_from<D>(config);
+    const double fraction =
+        static_cast<double>(count) * ball_volume<D>(config.real("system.radius")) / box.volume();
+    if (fraction >= random_sequential_jamming_fraction<D>())
+      throw PlacementError(fmt::format("cannot place {} particles at packing fraction {:.4f}: random sequential "
+                                       "placement jams at {:.3f} in {}D; lower system.count or system.radius",
+                                       count, fraction, random_sequential_jamming_fraction<D>(), D));
+  }
+  require_memory(fmt::format("system.count = {}", count), bytes_per_particle_estimate * static_cast<double>(count));
   world.resize(count);
   const Box<D>& box = world.emplace_resource<Box<D>>(box_from<D>(config));
   auto& mass = world.add_component<Mass>();
@@ -127,9 +145,17 @@ void build_gas(World& world, const Config& config, std::uint64_t seed,
     elastic.wall_restitution = 1.0;
     EventDrivenGas<D> gas(world, elastic);
     gas.start(0.0);
-    AdvanceLimits limits;
-    limits.max_pair_collisions = static_cast<std::uint64_t>(std::ceil(collisions * static_cast<double>(count) / 2));
-    const StopReason reason = gas.advance(std::numeric_limits<double>::infinity(), limits);
+    const auto total = static_cast<std::uint64_t>(std::ceil(collisions * static_cast<double>(count) / 2));
+    // In slices, to report progress: stopping at a collision count and going
+    // on is the same event sequence as one call.
+    constexpr std::uint64_t slices = 50;
+    StopReason reason = StopReason::collision_limit;
+    for (std::uint64_t k = 1; k <= slices && reason == StopReason::collision_limit; ++k) {
+      AdvanceLimits limits;
+      limits.max_pair_collisions = total * k / slices;
+      reason = gas.advance(std::numeric_limits<double>::infinity(), limits);
+      if (progress) progress(static_cast<double>(k) / slices);
+    }
     gas.synchronize(gas.time());
     // The run proper starts its clock at zero: forget the preparation's collision times.
     if (world.has_component<LastCollisionTime>()) {
