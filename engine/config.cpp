@@ -21,6 +21,8 @@ const char* type_name(ValueType type) {
     case ValueType::real: return "a number";
     case ValueType::boolean: return "true or false";
     case ValueType::string: return "a string";
+    case ValueType::real_array: return "a list of numbers";
+    case ValueType::table_array: return "a list of tables";
   }
   return "?";
 }
@@ -52,6 +54,50 @@ ConfigValue from_toml_node(const KeySpec& spec, const toml::node& node) {
     case ValueType::string:
       if (auto v = node.value_exact<std::string>()) return *v;
       break;
+    case ValueType::real_array:
+      if (const auto* array = node.as_array()) {
+        std::vector<double> values;
+        bool numbers = true;
+        for (const auto& item : *array) {
+          if (auto d = item.value_exact<double>())
+            values.push_back(*d);
+          else if (auto i = item.value_exact<std::int64_t>())
+            values.push_back(static_cast<double>(*i));
+          else
+            numbers = false;
+        }
+        if (numbers) return values;
+      }
+      break;
+    case ValueType::table_array:
+      if (const auto* array = node.as_array()) {
+        std::vector<ConfigTable> tables;
+        std::size_t index = 0;
+        for (const auto& item : *array) {
+          const auto* table = item.as_table();
+          if (!table) throw ConfigError(fmt::format("configuration key '{}' must be a list of tables", spec.key));
+          const std::string where = fmt::format("{}[{}]", spec.key, index++);
+          std::vector<std::pair<std::string, const toml::node*>> leaves;
+          collect_toml_leaves(*table, "", leaves);
+          Config element(*spec.element);
+          for (const auto& [key, leaf] : leaves) {
+            const KeySpec* inner = spec.element->find(key);
+            if (!inner) {
+              std::vector<std::string> known;
+              for (const auto& k : spec.element->keys()) known.push_back(k.key);
+              throw ConfigError(fmt::format("unknown key '{}' in {}; known keys: {}", key, where, join(known, ", ")));
+            }
+            try {
+              element.set(key, from_toml_node(*inner, *leaf));
+            } catch (const ConfigError& error) {
+              throw ConfigError(fmt::format("{}: {}", where, error.what()));
+            }
+          }
+          tables.push_back({element.values()});
+        }
+        return tables;
+      }
+      break;
   }
   std::ostringstream shown;
   node.visit([&](const auto& value) { shown << value; });
@@ -65,7 +111,19 @@ std::string trimmed(const std::string& text) {
   return text.substr(first, text.find_last_not_of(" \t") - first + 1);
 }
 
+// A --set value as TOML: "[46, 46, 46]", "[{x = 0.5}]".
+ConfigValue from_toml_text(const KeySpec& spec, const std::string& text) {
+  toml::table parsed;
+  try {
+    parsed = toml::parse("value = " + text, "--set " + spec.key);
+  } catch (const toml::parse_error& error) {
+    throw toml_parse_failure("--set " + spec.key + "=" + text, error);
+  }
+  return from_toml_node(spec, *parsed.get("value"));
+}
+
 ConfigValue from_text(const KeySpec& spec, std::string text) {
+  if (spec.type == ValueType::real_array || spec.type == ValueType::table_array) return from_toml_text(spec, text);
   const auto fail = [&] {
     return ConfigError(
         fmt::format("configuration key '{}' must be {}, got '{}'", spec.key, type_name(spec.type), text));
@@ -97,17 +155,32 @@ ConfigValue from_text(const KeySpec& spec, std::string text) {
       if (text.size() >= 2 && (text.front() == '"' || text.front() == '\'') && text.back() == text.front())
         text = text.substr(1, text.size() - 2);
       return text;
+    default: break;
   }
   throw fail();
 }
 
 }  // namespace
 
+std::string items_text(std::size_t min_items, std::size_t max_items) {
+  if (max_items == std::numeric_limits<std::size_t>::max()) return fmt::format("{} or more", min_items);
+  if (min_items == max_items) return std::to_string(min_items);
+  return fmt::format("{} to {}", min_items, max_items);
+}
+
 std::string KeySpec::allowed() const {
   if (!choices.empty()) return "one of: " + join(choices, ", ");
   switch (type) {
     case ValueType::boolean: return "true or false";
     case ValueType::string: return "a string";
+    case ValueType::real_array:
+      return fmt::format("a list of {} numbers in [{}, {}]", items_text(min_items, max_items), format_real(min),
+                         format_real(max));
+    case ValueType::table_array: {
+      std::vector<std::string> keys;
+      for (const auto& k : element->keys()) keys.push_back(k.key);
+      return fmt::format("a list of {} tables with keys {}", items_text(min_items, max_items), join(keys, ", "));
+    }
     default: break;
   }
   const auto bound = [&](double v) {
@@ -163,6 +236,23 @@ ConfigSchema& ConfigSchema::allow_change_on_resume(const std::string& key) {
       return *this;
     }
   throw std::logic_error("allow_change_on_resume: no key " + key);
+}
+
+ConfigSchema& ConfigSchema::real_array(const std::string& key, std::vector<double> def, double min, double max,
+                                       std::size_t min_items, std::size_t max_items, const std::string& help) {
+  KeySpec spec{key, ValueType::real_array, std::move(def), min, max, false, {}, help};
+  spec.min_items = min_items;
+  spec.max_items = max_items;
+  return add(std::move(spec));
+}
+
+ConfigSchema& ConfigSchema::table_array(const std::string& key, ConfigSchema element, std::size_t min_items,
+                                        std::size_t max_items, const std::string& help) {
+  KeySpec spec{key, ValueType::table_array, std::vector<ConfigTable>{}, 0, 0, false, {}, help};
+  spec.min_items = min_items;
+  spec.max_items = max_items;
+  spec.element = std::make_shared<const ConfigSchema>(std::move(element));
+  return add(std::move(spec));
 }
 
 const KeySpec* ConfigSchema::find(const std::string& key) const {
@@ -259,6 +349,28 @@ void Config::check(const KeySpec& s, const ConfigValue& value) const {
       if (!std::holds_alternative<bool>(value))
         throw ConfigError(fmt::format("configuration key '{}' must be true or false", s.key));
       break;
+    case ValueType::real_array: {
+      if (!std::holds_alternative<std::vector<double>>(value))
+        throw ConfigError(fmt::format("configuration key '{}' must be a list of numbers", s.key));
+      const auto& items = std::get<std::vector<double>>(value);
+      if (items.size() < s.min_items || items.size() > s.max_items)
+        throw ConfigError(fmt::format("configuration key '{}' has {} items: allowed is {}", s.key, items.size(),
+                                      s.allowed()));
+      for (double v : items)
+        if (!std::isfinite(v) || v < s.min || v > s.max)
+          throw ConfigError(fmt::format("configuration key '{}' holds {}, out of range: allowed is {}", s.key,
+                                        format_real(v), s.allowed()));
+      break;
+    }
+    case ValueType::table_array: {
+      if (!std::holds_alternative<std::vector<ConfigTable>>(value))
+        throw ConfigError(fmt::format("configuration key '{}' must be a list of tables", s.key));
+      const auto& items = std::get<std::vector<ConfigTable>>(value);
+      if (items.size() < s.min_items || items.size() > s.max_items)
+        throw ConfigError(fmt::format("configuration key '{}' has {} tables: allowed is {}", s.key, items.size(),
+                                      s.allowed()));
+      break;
+    }
     case ValueType::string: {
       if (!std::holds_alternative<std::string>(value))
         throw ConfigError(fmt::format("configuration key '{}' must be a string", s.key));
@@ -280,6 +392,19 @@ std::int64_t Config::integer(const std::string& key) const { return std::get<std
 double Config::real(const std::string& key) const { return std::get<double>(get(key)); }
 bool Config::boolean(const std::string& key) const { return std::get<bool>(get(key)); }
 const std::string& Config::text(const std::string& key) const { return std::get<std::string>(get(key)); }
+const std::vector<double>& Config::reals(const std::string& key) const {
+  return std::get<std::vector<double>>(get(key));
+}
+std::vector<Config> Config::tables(const std::string& key) const {
+  const KeySpec& s = spec(key);
+  std::vector<Config> out;
+  for (const auto& table : std::get<std::vector<ConfigTable>>(get(key))) {
+    Config element(*s.element);
+    for (const auto& [name, value] : table.values) element.set(name, value);
+    out.push_back(std::move(element));
+  }
+  return out;
+}
 
 std::string to_string(const ConfigValue& value) {
   return std::visit(
@@ -296,6 +421,18 @@ std::string to_string(const ConfigValue& value) {
           std::string shown = fmt::format("{}", v);
           if (shown.find_first_of(".eEn") == std::string::npos) shown += ".0";
           return shown;
+        } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+          std::vector<std::string> items;
+          for (double x : v) items.push_back(to_string(ConfigValue(x)));
+          return fmt::format("[{}]", join(items, ", "));
+        } else if constexpr (std::is_same_v<T, std::vector<ConfigTable>>) {
+          std::vector<std::string> tables;
+          for (const auto& table : v) {
+            std::vector<std::string> entries;
+            for (const auto& [name, entry] : table.values) entries.push_back(fmt::format("{} = {}", name, to_string(entry)));
+            tables.push_back(fmt::format("{{{}}}", join(entries, ", ")));
+          }
+          return fmt::format("[{}]", join(tables, ", "));
         } else {
           return std::to_string(v);
         }

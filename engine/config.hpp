@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <variant>
@@ -21,9 +22,19 @@ class ConfigError : public InputError {
   using InputError::InputError;
 };
 
-using ConfigValue = std::variant<std::int64_t, double, bool, std::string>;
+struct ConfigTable;
+// A key's value: a scalar, a list of numbers, or a list of tables (walls,
+// species, ...) whose keys an element schema declares.
+using ConfigValue =
+    std::variant<std::int64_t, double, bool, std::string, std::vector<double>, std::vector<ConfigTable>>;
+struct ConfigTable {
+  std::map<std::string, ConfigValue> values;
+  bool operator==(const ConfigTable&) const = default;
+};
 
-enum class ValueType { integer, real, boolean, string };
+enum class ValueType { integer, real, boolean, string, real_array, table_array };
+
+class ConfigSchema;
 
 struct KeySpec {
   std::string key;
@@ -38,6 +49,10 @@ struct KeySpec {
   // A resumed run may use another value (a stop criterion, an output
   // setting); every other key must match the checkpoint's.
   bool resume_may_change = false;
+  // Lists: how many items; for real_array every item lies in [min, max].
+  std::size_t min_items = 0;
+  std::size_t max_items = std::numeric_limits<std::size_t>::max();
+  std::shared_ptr<const ConfigSchema> element;  // table_array: the keys of each table
 
   std::string allowed() const;  // human-readable range or choice list
 };
@@ -56,6 +71,12 @@ class ConfigSchema {
   ConfigSchema& choice(const std::string& key, const std::string& def, std::vector<std::string> choices,
                        const std::string& help);
   ConfigSchema& text(const std::string& key, const std::string& def, const std::string& help);
+  // A list of numbers, each in [min, max].
+  ConfigSchema& real_array(const std::string& key, std::vector<double> def, double min, double max,
+                           std::size_t min_items, std::size_t max_items, const std::string& help);
+  // A list of tables ([[key]] in TOML), each checked against `element`; empty by default.
+  ConfigSchema& table_array(const std::string& key, ConfigSchema element, std::size_t min_items,
+                            std::size_t max_items, const std::string& help);
 
   // Keys under output.* may always change on resume.
   ConfigSchema& allow_change_on_resume(const std::string& key);
@@ -85,6 +106,9 @@ class Config {
   double real(const std::string& key) const;
   bool boolean(const std::string& key) const;
   const std::string& text(const std::string& key) const;
+  const std::vector<double>& reals(const std::string& key) const;
+  // Each table as a configuration of the element schema, its defaults filled in.
+  std::vector<Config> tables(const std::string& key) const;
 
   const std::map<std::string, ConfigValue>& values() const { return values_; }
   const ConfigSchema& schema() const { return *schema_; }

@@ -100,5 +100,62 @@ TEST(Config, ResolvedTomlRoundTrips) {
   EXPECT_EQ(again.values(), c.values());
 }
 
+ConfigSchema list_schema() {
+  ConfigSchema wall;
+  wall.choice("axis", "y", {"x", "y", "z"}, "normal axis")
+      .real("position", 0.0, 0.0, 1.0, "where")
+      .real("restitution", 1.0, 0.0, 1.0, "e");
+  ConfigSchema s;
+  s.real_array("system.cells", {10, 10, 10}, 1, 1e6, 3, 3, "cells per axis")
+      .table_array("walls", std::move(wall), 0, 6, "walls of the box");
+  return s;
+}
+
+TEST(Config, ListsOfNumbersAndOfTablesFromFilesAndSet) {
+  const auto s = list_schema();
+  Config c = Config::from_toml_text(
+      s, "walls = [{axis = 'x', position = 0.5}]\n[system]\ncells = [46, 46, 46]\n", "test");
+  EXPECT_EQ(c.reals("system.cells"), (std::vector<double>{46, 46, 46}));
+  ASSERT_EQ(c.tables("walls").size(), 1u);
+  EXPECT_EQ(c.tables("walls")[0].text("axis"), "x");
+  EXPECT_EQ(c.tables("walls")[0].real("restitution"), 1.0);  // the element's default
+  c.apply_override("system.cells = [8, 16, 32]");
+  EXPECT_EQ(c.reals("system.cells"), (std::vector<double>{8, 16, 32}));
+  c.apply_override("walls=[{axis = 'y', restitution = 0.9}, {axis = 'z'}]");
+  EXPECT_EQ(c.tables("walls").size(), 2u);
+  EXPECT_EQ(c.tables("walls")[0].real("restitution"), 0.9);
+  // The resolved configuration is TOML that reads back to the same values.
+  const Config again = Config::from_toml_text(s, c.to_toml(), "round trip");
+  EXPECT_EQ(again.values(), c.values());
+  // [[walls]] tables in the file form.
+  EXPECT_EQ(Config::from_toml_text(s, "[[walls]]\naxis = 'z'\n[[walls]]\nposition = 1.0\n", "test")
+                .tables("walls")[1].real("position"),
+            1.0);
+}
+
+TEST(Config, ListErrorsNameTheKeyAndTheItem) {
+  const auto s = list_schema();
+  Config c(s);
+  EXPECT_NE(error_of([&] { c.apply_override("system.cells=[46, 46]"); }).find(
+                "'system.cells' has 2 items: allowed is a list of 3 numbers in [1, 1000000]"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { c.apply_override("system.cells=[46, 0, 46]"); }).find("holds 0, out of range"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { c.apply_override("walls=[{axis = 'w'}]"); }).find("walls[0]: configuration key 'axis'"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { c.apply_override("walls=[{axes = 'x'}]"); }).find("unknown key 'axes' in walls[0]"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { c.apply_override("system.cells=[1, 2"); }).find("cannot parse --set system.cells"),
+            std::string::npos);
+}
+
+TEST(Config, SetTrimsSpacesAndReadsIntegersWrittenWithExponents) {
+  const auto s = schema();
+  Config c(s);
+  c.apply_override("  system.count =  2e2 ");
+  EXPECT_EQ(c.integer("system.count"), 200);
+  EXPECT_NE(error_of([&] { c.apply_override("system.count=2.5e0"); }).find("must be an integer"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace granflow
