@@ -5,6 +5,7 @@
 // checkpoint file is a list of such arrays.
 
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,25 @@ inline StateMap state_under(const StateMap& state, const std::string& prefix) {
   for (auto it = state.lower_bound(head); it != state.end() && it->first.compare(0, head.size(), head) == 0; ++it)
     out.emplace(it->first.substr(head.size()), it->second);
   return out;
+}
+
+// A list of fixed-size vectors (Eigen's Vec<D>) as one flat array and back.
+template <class V>
+std::vector<double> flatten_vectors(const std::vector<V>& vectors) {
+  std::vector<double> flat;
+  flat.reserve(vectors.size() * static_cast<std::size_t>(V::RowsAtCompileTime));
+  for (const auto& v : vectors) flat.insert(flat.end(), v.data(), v.data() + V::RowsAtCompileTime);
+  return flat;
+}
+// `what` names the data in the error when the sizes differ.
+template <class V>
+void unflatten_vectors(const std::vector<double>& flat, std::vector<V>& vectors, const std::string& what) {
+  constexpr auto width = static_cast<std::size_t>(V::RowsAtCompileTime);
+  if (flat.size() != vectors.size() * width)
+    throw std::invalid_argument("checkpoint " + what + " has " + std::to_string(flat.size()) + " values, expected " +
+                                std::to_string(vectors.size() * width));
+  for (std::size_t i = 0; i < vectors.size(); ++i)
+    for (std::size_t a = 0; a < width; ++a) vectors[i][static_cast<int>(a)] = flat[i * width + a];
 }
 
 inline void put_state_under(StateMap& state, const std::string& prefix, const StateMap& part) {

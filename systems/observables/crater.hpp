@@ -42,16 +42,9 @@ class CraterObserver : public System, public Stateful {
         .writes_observable("crater_size")
         .writes_observable("projectile_depth");
   }
-  StateMap save_state() const override {
-    std::vector<double> flat;
-    for (const auto& x : initial_) flat.insert(flat.end(), x.data(), x.data() + D);
-    return {{"initial_position", flat}};
-  }
+  StateMap save_state() const override { return {{"initial_position", flatten_vectors(initial_)}}; }
   void restore_state(const StateMap& state) override {
-    const auto& flat = state.at("initial_position");
-    if (flat.size() != initial_.size() * D) throw std::invalid_argument("checkpoint crater positions have the wrong size");
-    for (std::size_t i = 0; i < initial_.size(); ++i)
-      for (int a = 0; a < D; ++a) initial_[i][a] = flat[i * D + a];
+    unflatten_vectors(state.at("initial_position"), initial_, "crater initial positions");
   }
   void run(World& world) override {
     const auto& x = world.component<Position<D>>();

@@ -66,17 +66,8 @@ class MsdObserver : public System, public Stateful {
   Access access() const override {
     return Access{}.reads<Position<D>, ImageCount<D>, ParticleId>().writes_observable("msd");
   }
-  StateMap save_state() const override {
-    std::vector<double> flat;
-    for (const auto& x : origin_) flat.insert(flat.end(), x.data(), x.data() + D);
-    return {{"origin", flat}};
-  }
-  void restore_state(const StateMap& state) override {
-    const auto& flat = state.at("origin");
-    if (flat.size() != origin_.size() * D) throw std::invalid_argument("checkpoint MSD origins have the wrong size");
-    for (std::size_t i = 0; i < origin_.size(); ++i)
-      for (int a = 0; a < D; ++a) origin_[i][a] = flat[i * D + a];
-  }
+  StateMap save_state() const override { return {{"origin", flatten_vectors(origin_)}}; }
+  void restore_state(const StateMap& state) override { unflatten_vectors(state.at("origin"), origin_, "MSD origins"); }
   void run(World& world) override { world.resource<ObservableStore>().set("msd", measure(world)); }
 
   double measure(const World& world) const {
