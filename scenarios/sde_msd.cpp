@@ -36,6 +36,7 @@
 #include "systems/initial/initial_velocities.hpp"
 #include "systems/observables/msd.hpp"
 #include "systems/observables/time_averaged_msd.hpp"
+#include "systems/sde/sde_parameters.hpp"
 #include "systems/sde/sde_step.hpp"
 #include "systems/sde/sde_theory.hpp"
 
@@ -47,57 +48,18 @@ void declare_keys(ConfigSchema& s, bool scaled) {
   constexpr double inf = std::numeric_limits<double>::infinity();
   s.integer("system.dimension", 3, 1, 3, "number of Cartesian components per particle")
       .integer("system.count", 1000, 1, 100000000, "particles per run (independent, all start at the origin)")
-      .choice("sde.parameters", "gas", {"gas", "direct"},
-              "gas: gamma0, D0, tau0 of the hard-sphere gas gas.* (seed 000 eqs. 2.45, 2.52, 2.55); direct: sde.*")
-      .real("sde.gamma0", 10.0, 0.0, inf, "friction coefficient gamma0 (sde.parameters = direct)", true)
-      .real("sde.diffusivity0", 0.05, 0.0, inf, "diffusivity D0 (sde.parameters = direct)", true)
-      .real("gas.count", 1000.0, 0.0, inf, "N of the gas the parameters come from", true)
-      .real("gas.radius", 0.025, 0.0, inf, "particle radius r of that gas", true)
-      .real("gas.box_length", 1.0, 0.0, inf, "edge of its cubic box", true)
-      .real("gas.temperature", 2.0 / 3.0, 0.0, inf, "its initial temperature T0 (2/3: speed sqrt(2))", true)
-      .real("gas.mass", 1.0, 0.0, inf, "particle mass m", true)
       .choice("initial.velocity", "stationary", {"stationary", "fixed_speed"},
               "stationary: Gaussian with the variance the noise sustains at t = 0; fixed_speed: |v| = "
               "initial.speed in random directions (seed 000's choice)")
       .real("initial.speed", std::sqrt(2.0), 0.0, inf, "initial speed (fixed_speed)")
       .real("run.t_stop", 100.0, 0.0, inf, "stop time", true)
-      .real("run.dt", 0.01, 0.0, inf, "time step", true)
-      .choice("run.scheme", "exact_ou", {"exact_ou", "euler_maruyama"},
-              "exact_ou: exact Ornstein-Uhlenbeck velocity update between half drifts (BAOAB-style); "
-              "euler_maruyama: seed 000 eqs. 2.92 / 2.110")
       .real("output.first", 0.01, 0.0, inf, "first output time after t = 0", true)
       .integer("output.points_per_decade", 10, 1, 1000, "log-spaced outputs per decade");
+  sde::declare_sde_model_keys(s, scaled);
+  sde::declare_sde_step_keys(s);
   declare_ensemble_keys(s, 4);
   declare_msd_keys(s, MsdDefaults{1000, 0.0});
-  if (scaled) {
-    s.real("gas.restitution", 0.8, 0.0, 1.0, "restitution xi of that gas (xi < 1: UDSBM; sets tau0)")
-        .real("sde.tau0", 1.0, 0.0, inf, "decay time tau0 of gamma and D (sde.parameters = direct)", true);
-  }
 }
-
-
-}  // namespace
-
-sde::SdeModel sde_model_from(const Config& config) {
-  const bool scaled = config.text("scenario") == "udsbm_msd";
-  sde::SdeModel model;
-  if (config.text("sde.parameters") == "direct") {
-    model.gamma0 = config.real("sde.gamma0");
-    model.diffusivity0 = config.real("sde.diffusivity0");
-    if (scaled) model.tau0 = config.real("sde.tau0");
-  } else {
-    const double xi = scaled ? config.real("gas.restitution") : 1.0;
-    model = sde::model_from_gas(config.real("gas.count"), config.real("gas.radius"), xi,
-                                config.real("gas.temperature"), config.real("gas.mass"),
-                                std::pow(config.real("gas.box_length"), 3));
-    if (!scaled) model.tau0 = std::numeric_limits<double>::infinity();
-  }
-  if (model.scaled() && std::abs(model.gamma0 * model.tau0 - 1.0) < 1e-9)
-    throw ConfigError("gamma0 * tau0 = 1 is the degenerate case of UDSBM's MSD; choose other parameters");
-  return model;
-}
-
-namespace {
 
 struct Stepping {
   double dt;
@@ -119,7 +81,7 @@ Stepping stepping_from(const Config& config, const sde::SdeModel& model, int dim
     const auto step = std::min<std::int64_t>(s.total_steps, std::llround(t / s.dt));
     if (step > 0 && (s.output_steps.empty() || step > s.output_steps.back())) s.output_steps.push_back(step);
   }
-  s.scheme = config.text("run.scheme") == "euler_maruyama" ? sde::Scheme::euler_maruyama : sde::Scheme::exact_ou;
+  s.scheme = sde::scheme_from(config);
   if (s.scheme == sde::Scheme::euler_maruyama && model.gamma0 * s.dt >= 2.0)
     throw ConfigError(fmt::format("run.dt = {} with gamma0 = {:.4g}: Euler-Maruyama's velocity update diverges for "
                                   "gamma0 * dt >= 2 (here {:.3g}); lower run.dt or use run.scheme = \"exact_ou\"",
@@ -134,7 +96,7 @@ Stepping stepping_from(const Config& config, const sde::SdeModel& model, int dim
 template <int D>
 void build(Run& run) {
   const Config& c = run.config();
-  const sde::SdeModel model = sde_model_from(c);
+  const sde::SdeModel model = sde::sde_model_from(c);
   const Stepping s = stepping_from(c, model, D);
   if (run.member() == 0 && model.gamma0 * s.dt > 0.5)
     spdlog::warn("gamma0 * dt = {:.3g}: the step does not resolve the velocity relaxation time 1/gamma0; the MSD "
@@ -167,7 +129,7 @@ void build(Run& run) {
 }
 
 void write(const Config& config, const SdeMsdResult& result, H5mdFile& file) {
-  const sde::SdeModel model = sde_model_from(config);
+  const sde::SdeModel model = sde::sde_model_from(config);
   file.write_attribute("/parameters/derived", "gamma0", model.gamma0);
   file.write_attribute("/parameters/derived", "diffusivity0", model.diffusivity0);
   file.write_attribute("/parameters/derived", "tau0", model.tau0);
@@ -230,7 +192,7 @@ const Scenario udsbm_msd = sde_scenario(
 
 SdeMsdResult reduce_sde_msd(const EnsembleResults& results) {
   const Config& config = results.config;
-  const sde::SdeModel model = sde_model_from(config);
+  const sde::SdeModel model = sde::sde_model_from(config);
   const auto dimension = static_cast<int>(config.integer("system.dimension"));
   const Stepping s = stepping_from(config, model, dimension);
   SdeMsdResult out;

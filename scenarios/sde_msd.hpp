@@ -11,9 +11,6 @@
 namespace granflow::scenarios {
 
 
-// The model a configuration asks for (from the gas or given directly).
-sde::SdeModel sde_model_from(const Config& config);
-
 // Ensemble and time-averaged MSD of one configuration, every run done.
 struct SdeMsdResult {
   std::vector<double> time, msd, msd_stderr, msd_theory;

@@ -14,6 +14,7 @@
 #include "components/clock.hpp"
 #include "engine/run_control.hpp"
 #include "scenarios/sde_msd.hpp"
+#include "systems/sde/sde_parameters.hpp"
 #include "engine/rng.hpp"
 #include "systems/sde/gaussian_noise.hpp"
 #include "systems/sde/sde_step.hpp"
@@ -105,7 +106,7 @@ TEST(SdeMsd, LangevinMatchesTheoryAndIsErgodic) {
   // ~35 correlated output times: 4 standard errors bound the largest of them.
   EXPECT_LT(worst_deviation(r, 1e-3, 0.01), 4.0);
   // Ergodic: the time average over a run of 20 equals the ensemble MSD at lags << 20.
-  const SdeModel m = scenarios::sde_model_from(sde_config("langevin_msd", 1, 1, 1));
+  const SdeModel m = sde_model_from(sde_config("langevin_msd", 1, 1, 1));
   for (std::size_t k = 0; k < r.lag.size(); ++k) {
     if (r.lag[k] > 1.0) break;
     EXPECT_NEAR(r.time_averaged_msd[k] / (3 * langevin_msd(m, r.lag[k])), 1.0, 0.03) << "lag " << r.lag[k];
@@ -129,7 +130,7 @@ TEST(SdeMsd, OneAndTwoDimensionsMatchTheory) {
 TEST(SdeMsd, UdsbmMatchesTheoryAndIsNotErgodic) {
   const auto r = scenarios::measure_sde_msd(sde_config("udsbm_msd", 1000, 50.0, 0.01));
   EXPECT_LT(worst_deviation(r, 1e-3, 0.01), 4.0);
-  const SdeModel m = scenarios::sde_model_from(sde_config("udsbm_msd", 1, 1, 1));
+  const SdeModel m = sde_model_from(sde_config("udsbm_msd", 1, 1, 1));
   // Scaled Brownian motion ages: over a long measurement most of the time is
   // spent where D has decayed, so the time average at a lag falls far
   // below the ensemble MSD at that time.
