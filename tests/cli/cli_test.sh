@@ -198,6 +198,23 @@ PY
 fi
 expect_error "there is no checkpoint" run "$scenario" "${small[@]}" -o "$work/none.h5" --resume
 
+# A finished run that kept its final state is extended by --resume with a later stop time.
+"$granflow" run "$scenario" "${small[@]}" --set output.final_checkpoint=true -o "$work/short.h5" \
+  || { echo "FAIL: run keeping its final checkpoint"; failures=$((failures + 1)); }
+cp "$work/short.h5" "$work/short_first.h5"
+"$granflow" run "$scenario" "${small[@]}" --set run.t_stop=1.5 --resume -o "$work/short.h5" \
+  || { echo "FAIL: extending a finished run"; failures=$((failures + 1)); }
+/usr/bin/python3 - "$work/short_first.h5" "$work/short.h5" <<'PY' || failures=$((failures + 1))
+import sys, h5py, numpy as np
+a, b = (h5py.File(p, "r") for p in sys.argv[1:])
+t0, t1 = a["/observables/kinetic_energy/time"][()], b["/observables/kinetic_energy/time"][()]
+if not (t0[-1] == 0.5 and t1[-1] == 1.5):
+    sys.exit(f"FAIL: extension ends at {t1[-1]} (first run at {t0[-1]})")
+if not np.array_equal(a["/observables/kinetic_energy/value"][()], b["/observables/kinetic_energy/value"][()][: len(t0)]):
+    sys.exit("FAIL: the extended run does not start with the first run's series")
+print("ok: a finished run extended from t = 0.5 to 1.5 with --resume")
+PY
+
 "$granflow" list | grep -q haff_cooling || { echo "FAIL: list"; failures=$((failures + 1)); }
 expect_error "is not an HDF5 file" info "$scenario"
 
