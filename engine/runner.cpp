@@ -112,6 +112,9 @@ int single_run(const Scenario& scenario, const Config& config, const RunOptions&
     check_existing_checkpoint(checkpoint, config);
   if (std::filesystem::exists(output)) spdlog::info("replacing the existing result file '{}'", output);
 
+  // From here on a signal stops the run at a safe point instead of killing it.
+  std::optional<InterruptGuard> guard;
+  if (options.handle_signals) guard.emplace();
   H5mdFile file(output, scenario.name);
   file.write_parameters(config);
   Profiler profiler;
@@ -125,10 +128,12 @@ int single_run(const Scenario& scenario, const Config& config, const RunOptions&
     run.on_setup_progress({});
   }
   run.prepare();
+  if (guard && guard->requested()) {
+    spdlog::warn("interrupted (signal {}) while preparing the initial state: nothing to resume", guard->signal_number());
+    return exit_interrupted(guard->signal_number());
+  }
   if (resumed) spdlog::info("resuming from '{}' at t = {:.6g}", checkpoint, run.clock().time);
 
-  std::optional<InterruptGuard> guard;
-  if (options.handle_signals) guard.emplace();
   Progress progress(scenario.name, run.rate_unit(), options.progress);
   const double interval = config.real("output.checkpoint_interval");
   auto last_checkpoint = std::chrono::steady_clock::now();
