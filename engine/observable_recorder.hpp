@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,10 @@ struct ObservableSample {
   std::vector<double> value;
 };
 using ObservableHistory = std::map<std::string, std::vector<ObservableSample>>;
+
+// A history as flat arrays (<name>/step, /time, /value, /width) and back.
+StateMap save_history(const ObservableHistory& history);
+ObservableHistory load_history(const StateMap& saved);
 
 class ObservableRecorder : public System {
  public:
@@ -62,47 +67,57 @@ class ObservableRecorder : public System {
   }
   const ObservableHistory& history() const { return history_; }
 
-  StateMap save_history() const {
-    StateMap out;
-    for (const auto& [name, samples] : history_) {
-      auto& step = out[name + "/step"];
-      auto& time = out[name + "/time"];
-      auto& value = out[name + "/value"];
-      auto& width = out[name + "/width"];
-      for (const auto& s : samples) {
-        step.push_back(static_cast<double>(s.step));
-        time.push_back(s.time);
-        width.push_back(static_cast<double>(s.value.size()));
-        value.insert(value.end(), s.value.begin(), s.value.end());
-      }
-    }
-    return out;
-  }
+  StateMap save_history() const { return granflow::save_history(history_); }
   // Writes a saved history again (into `file`, when there is one).
   void replay(H5mdFile* file, const StateMap& saved) {
-    for (const auto& [entry, steps] : saved) {
-      if (entry.size() < 5 || entry.compare(entry.size() - 5, 5, "/step") != 0) continue;
-      const std::string name = entry.substr(0, entry.size() - 5);
-      const auto& time = saved.at(name + "/time");
-      const auto& value = saved.at(name + "/value");
-      const auto& width = saved.at(name + "/width");
-      if (time.size() != steps.size() || width.size() != steps.size())
-        throw std::invalid_argument("checkpoint series '" + name + "' is inconsistent");
-      std::size_t at = 0;
-      for (std::size_t k = 0; k < steps.size(); ++k) {
-        const auto w = static_cast<std::size_t>(width[k]);
-        if (at + w > value.size()) throw std::invalid_argument("checkpoint series '" + name + "' is truncated");
-        append(file, name,
-               {static_cast<std::int64_t>(steps[k]), time[k],
-                {value.begin() + static_cast<std::ptrdiff_t>(at), value.begin() + static_cast<std::ptrdiff_t>(at + w)}});
-        at += w;
-      }
-    }
+    for (const auto& [name, samples] : load_history(saved))
+      for (const auto& sample : samples) append(file, name, sample);
   }
 
  private:
   std::vector<std::string> observables_;
   ObservableHistory history_;
 };
+
+inline StateMap save_history(const ObservableHistory& history) {
+  StateMap out;
+  for (const auto& [name, samples] : history) {
+    auto& step = out[name + "/step"];
+    auto& time = out[name + "/time"];
+    auto& value = out[name + "/value"];
+    auto& width = out[name + "/width"];
+    for (const auto& s : samples) {
+      step.push_back(static_cast<double>(s.step));
+      time.push_back(s.time);
+      width.push_back(static_cast<double>(s.value.size()));
+      value.insert(value.end(), s.value.begin(), s.value.end());
+    }
+  }
+  return out;
+}
+
+inline ObservableHistory load_history(const StateMap& saved) {
+  ObservableHistory history;
+  for (const auto& [entry, steps] : saved) {
+    if (entry.size() < 5 || entry.compare(entry.size() - 5, 5, "/step") != 0) continue;
+    const std::string name = entry.substr(0, entry.size() - 5);
+    const auto time = saved.find(name + "/time"), value = saved.find(name + "/value"), width = saved.find(name + "/width");
+    if (time == saved.end() || value == saved.end() || width == saved.end() || time->second.size() != steps.size() ||
+        width->second.size() != steps.size())
+      throw std::invalid_argument("checkpoint series '" + name + "' is inconsistent");
+    std::size_t at = 0;
+    auto& samples = history[name];
+    for (std::size_t k = 0; k < steps.size(); ++k) {
+      const double w = width->second[k];
+      if (!(w >= 0) || at + static_cast<std::size_t>(w) > value->second.size())
+        throw std::invalid_argument("checkpoint series '" + name + "' is truncated");
+      const auto begin = value->second.begin() + static_cast<std::ptrdiff_t>(at);
+      samples.push_back({static_cast<std::int64_t>(steps[k]), time->second[k],
+                         {begin, begin + static_cast<std::ptrdiff_t>(w)}});
+      at += static_cast<std::size_t>(w);
+    }
+  }
+  return history;
+}
 
 }  // namespace granflow

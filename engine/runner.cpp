@@ -67,7 +67,10 @@ void check_existing_checkpoint(const std::string& path, const Config& config) {
                path);
 }
 
-CheckpointContents load_for_resume(const std::string& path, const ConfigSchema& schema, const Config& config) {
+// `exact`: every key but the checkpoint settings must match (an ensemble's
+// finished runs were made with them and cannot be extended).
+CheckpointContents load_for_resume(const std::string& path, const ConfigSchema& schema, const Config& config,
+                                   bool exact = false) {
   if (!std::filesystem::exists(path))
     throw InputError(fmt::format("--resume: there is no checkpoint '{}' to resume from", path));
   CheckpointContents contents = read_checkpoint(path);
@@ -77,7 +80,12 @@ CheckpointContents load_for_resume(const std::string& path, const ConfigSchema& 
   } catch (const ConfigError& error) {
     throw InputError(fmt::format("--resume: checkpoint '{}' does not fit this scenario's keys ({})", path, error.what()));
   }
-  const auto conflicts = config.resume_conflicts(stored);
+  auto conflicts = config.resume_conflicts(stored);
+  if (exact)
+    for (const auto& [key, value] : config.values())
+      if (key.rfind("output.checkpoint_interval", 0) != 0 && key != "output.final_checkpoint" &&
+          stored.values().at(key) != value && std::find(conflicts.begin(), conflicts.end(), key) == conflicts.end())
+        conflicts.push_back(key);
   if (!conflicts.empty()) {
     std::string list;
     for (const auto& key : conflicts)
@@ -205,17 +213,18 @@ int ensemble_run(const Scenario& scenario, const Config& config, const RunOption
   check_output_path(output);
   const std::size_t count = scenario.members(config);
   if (count == 0) throw ConfigError(fmt::format("{}: the ensemble has no members", scenario.name));
+  // From here on a signal stops the runs at a safe point instead of killing them.
+  std::optional<InterruptGuard> guard;
+  if (options.handle_signals) guard.emplace();
   std::vector<std::optional<EnsembleMember>> finished(count);
   std::vector<StateMap> in_progress(count);
   if (options.resume) {
-    const auto contents = load_for_resume(checkpoint, config.schema(), config);
+    const auto contents = load_for_resume(checkpoint, config.schema(), config, true);
     for (std::size_t r = 0; r < count; ++r) {
       const std::string prefix = member_prefix(r);
       if (contents.state.count(prefix + "/done")) {
         EnsembleMember member;
-        ObservableRecorder replayed({});
-        replayed.replay(nullptr, state_under(contents.state, prefix + "/history"));
-        member.history = replayed.history();
+        member.history = load_history(state_under(contents.state, prefix + "/history"));
         for (const auto& [name, value] : state_under(contents.state, prefix + "/derived"))
           if (value.size() == 1) member.derived[name] = value[0];
         finished[r] = std::move(member);
@@ -238,10 +247,7 @@ int ensemble_run(const Scenario& scenario, const Config& config, const RunOption
       const std::string prefix = member_prefix(r);
       if (finished[r]) {
         state[prefix + "/done"] = {1.0};
-        ObservableRecorder history({});
-        for (const auto& [name, samples] : finished[r]->history)
-          for (const auto& s : samples) history.append(nullptr, name, s);
-        put_state_under(state, prefix + "/history", history.save_history());
+        put_state_under(state, prefix + "/history", save_history(finished[r]->history));
         for (const auto& [name, value] : finished[r]->derived) state[prefix + "/derived/" + name] = {value};
       } else if (!in_progress[r].empty()) {
         put_state_under(state, prefix + "/run", in_progress[r]);
@@ -250,8 +256,6 @@ int ensemble_run(const Scenario& scenario, const Config& config, const RunOption
     write_checkpoint(checkpoint, scenario.name, config, state);
   };
 
-  std::optional<InterruptGuard> guard;
-  if (options.handle_signals) guard.emplace();
   const std::atomic<bool>* interrupt = guard ? &guard->requested() : nullptr;
   Profiler profiler;
   Progress progress(scenario.name, "runs/s", options.progress);
@@ -266,12 +270,10 @@ int ensemble_run(const Scenario& scenario, const Config& config, const RunOption
                     fmt::format("{}/{} runs", std::count(fraction.begin(), fraction.end(), 1.0), count));
   };
   std::optional<std::pair<std::size_t, std::string>> failure;
-  bool interrupted = false;
   run_members(scenario, config, profiler, interrupt, finished, in_progress, [&](std::size_t r, Run& run, const RunOutcome& outcome) {
     std::lock_guard hold(lock);
     if (outcome.kind == RunOutcome::Kind::interrupted) {
       in_progress[r] = run.save();
-      interrupted = true;
       return;
     }
     if (outcome.kind == RunOutcome::Kind::failed && (!failure || r < failure->first)) failure.emplace(r, outcome.reason);
@@ -285,13 +287,11 @@ int ensemble_run(const Scenario& scenario, const Config& config, const RunOption
     show();
   });
   progress.finish();
-  if (interrupted || (interrupt && interrupt->load() &&
-                      std::any_of(finished.begin(), finished.end(), [](const auto& m) { return !m; }))) {
+  const auto done = static_cast<std::size_t>(
+      std::count_if(finished.begin(), finished.end(), [](const auto& m) { return m.has_value(); }));
+  if (interrupt && interrupt->load() && done < count) {
     save();
-    report_interruption(guard->signal_number(), checkpoint,
-                        fmt::format("with {} of {} runs done",
-                                    std::count_if(finished.begin(), finished.end(), [](const auto& m) { return m.has_value(); }),
-                                    count));
+    report_interruption(guard->signal_number(), checkpoint, fmt::format("with {} of {} runs done", done, count));
     return exit_interrupted(guard->signal_number());
   }
   if (failure) {
