@@ -1,10 +1,18 @@
 #include "engine/h5md_file.hpp"
 
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 
 #include "engine/config.hpp"
+#include "engine/input_error.hpp"
 
 namespace granflow {
 
@@ -119,11 +127,32 @@ struct H5mdFile::Series {
   hsize_t frames = 0;
 };
 
+// The .partial is claimed with an exclusive lock before HDF5 touches it: a
+// second run with the same output stops here instead of truncating the
+// first run's file. The lock goes with the process, so a killed run leaves
+// no stale claim. HDF5's own locking is off, as this lock replaces it.
 H5mdFile::H5mdFile(const std::string& path, const std::string& scenario)
     : path_(path), partial_path_(path + ".partial") {
   h5_quiet();
-  file_ = H5Handle(H5Fcreate(partial_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
-                   "create output file '" + partial_path_ + "'");
+  lock_ = ::open(partial_path_.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+  if (lock_ < 0)
+    throw InputError(fmt::format("cannot create '{}': {}", partial_path_, std::strerror(errno)));
+  if (::flock(lock_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(lock_);
+    throw InputError(fmt::format("output '{}' is in use by another run ('{}' is locked); wait for it to finish or "
+                                 "choose another -o",
+                                 path_, partial_path_));
+  }
+  H5Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "create file access list");
+  h5_check(H5Pset_file_locking(access, false, true), "disable HDF5 file locking");
+  try {
+    file_ = H5Handle(H5Fcreate(partial_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access), H5Fclose,
+                     "create output file '" + partial_path_ + "'");
+  } catch (...) {
+    std::filesystem::remove(partial_path_);
+    ::close(lock_);
+    throw;
+  }
   const hid_t h5md = group("/h5md");
   write_numeric_attribute<int>(h5md, "version", H5T_NATIVE_INT, {1, 1});
   const hid_t creator = group("/h5md/creator");
@@ -143,6 +172,7 @@ H5mdFile::~H5mdFile() {
   file_ = H5Handle();
   std::error_code ignored;
   std::filesystem::remove(partial_path_, ignored);
+  ::close(lock_);
 }
 
 hid_t H5mdFile::group(const std::string& path) {
@@ -291,6 +321,7 @@ void H5mdFile::finish() {
   std::filesystem::rename(partial_path_, path_, error);
   if (error) throw H5Error("cannot move '" + partial_path_ + "' to '" + path_ + "': " + error.message());
   finished_ = true;
+  ::close(lock_);
 }
 
 }  // namespace granflow

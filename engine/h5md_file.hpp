@@ -57,6 +57,7 @@ class H5mdFile {
   std::map<std::string, H5Handle> groups_;
   std::map<std::string, std::unique_ptr<Series>> series_;
   bool finished_ = false;
+  int lock_ = -1;  // descriptor holding the exclusive lock on the .partial
 };
 
 }  // namespace granflow

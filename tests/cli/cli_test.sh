@@ -198,6 +198,22 @@ PY
 fi
 expect_error "there is no checkpoint" run "$scenario" "${small[@]}" -o "$work/none.h5" --resume
 
+# A second run with the same output is refused at once and leaves the first run's file intact.
+"$granflow" run "$scenario" "${long[@]}" -o "$work/same.h5" &
+pid=$!
+for _ in $(seq 100); do [[ -e "$work/same.h5.partial" ]] && break; sleep 0.02; done
+expect_error "output '$work/same.h5' is in use by another run" run "$scenario" "${small[@]}" -o "$work/same.h5"
+wait $pid || { echo "FAIL: the first of two runs on one output failed"; failures=$((failures + 1)); }
+/usr/bin/python3 - "$work/same.h5" "$work/whole.h5" <<'PY' || failures=$((failures + 1))
+import sys, h5py, numpy as np
+a, b = (h5py.File(p, "r") for p in sys.argv[1:])
+if a["/parameters/toml"][()] != b["/parameters/toml"][()] or list(a["/particles/all/box/edges"][()]) != [1, 1, 1]:
+    sys.exit("FAIL: the first run's result was damaged by the second")
+if not np.array_equal(a["/observables/kinetic_energy/value"][()], b["/observables/kinetic_energy/value"][()]):
+    sys.exit("FAIL: the first run's observables differ from an undisturbed run")
+print("ok: a concurrent run on the same output is refused and the first run's result is intact")
+PY
+
 # A finished run that kept its final state is extended by --resume with a later stop time.
 "$granflow" run "$scenario" "${small[@]}" --set output.final_checkpoint=true -o "$work/short.h5" \
   || { echo "FAIL: run keeping its final checkpoint"; failures=$((failures + 1)); }
