@@ -58,14 +58,8 @@ void keys_command(const std::string& name) {
     fmt::print("{:<40} = {:<22} # {}; {}\n", spec.key, to_string(spec.default_value), spec.help, spec.allowed());
 }
 
-void info_command(const std::string& path) {
-  std::optional<H5mdReader> opened;
-  try {
-    opened.emplace(path);
-  } catch (const H5Error& error) {
-    throw std::invalid_argument(error.what());
-  }
-  const H5mdReader& reader = *opened;
+void describe_result_file(const std::string& path) {
+  const H5mdReader reader(path);
   fmt::print("{}\n", path);
   if (reader.exists("/h5md/creator"))
     fmt::print("  created by {} {}\n", reader.string_attribute("/h5md/creator", "name"),
@@ -81,6 +75,15 @@ void info_command(const std::string& path) {
     }
   fmt::print("datasets:\n{}", reader.describe());
   if (reader.exists("/parameters/toml")) fmt::print("configuration:\n{}", reader.string_dataset("/parameters/toml"));
+}
+
+// A file that cannot be read as a result file is bad input, whatever is wrong with it.
+void info_command(const std::string& path) {
+  try {
+    describe_result_file(path);
+  } catch (const H5Error& error) {
+    throw InputError(fmt::format("cannot describe '{}': {}", path, error.what()));
+  }
 }
 
 }  // namespace

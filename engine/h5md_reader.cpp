@@ -28,8 +28,17 @@ H5Handle variable_string_type() {
   return type;
 }
 
+// Every attribute read here is one value; a file with more (damaged or
+// crafted) is refused before anything is copied into a one-value buffer.
+void require_one_value(hid_t attribute, const std::string& what) {
+  H5Handle space(H5Aget_space(attribute), H5Sclose, "get space of " + what);
+  const hssize_t points = H5Sget_simple_extent_npoints(space);
+  if (points != 1) throw H5Error(fmt::format("attribute {} holds {} values, expected one", what, points));
+}
+
 std::string read_string_attribute_of(hid_t object, const std::string& name, const std::string& what) {
   H5Handle attribute(H5Aopen(object, name.c_str(), H5P_DEFAULT), H5Aclose, "open attribute " + what);
+  require_one_value(attribute, what);
   H5Handle file_type(H5Aget_type(attribute), H5Tclose, "get type of " + what);
   if (H5Tis_variable_str(file_type) > 0) {
     H5Handle type = variable_string_type();
@@ -39,7 +48,9 @@ std::string read_string_attribute_of(hid_t object, const std::string& name, cons
     H5free_memory(text);
     return out;
   }
+  if (H5Tget_class(file_type) != H5T_STRING) throw H5Error("attribute " + what + " is not a string");
   const std::size_t size = H5Tget_size(file_type);
+  if (size == 0 || size > (1u << 20)) throw H5Error("attribute " + what + " has an impossible string size");
   std::string out(size, '\0');
   h5_check(H5Aread(attribute, file_type, out.data()), "read attribute " + what);
   return out.substr(0, out.find('\0'));
@@ -133,6 +144,7 @@ std::string H5mdReader::string_attribute(const std::string& object_path, const s
 double H5mdReader::double_attribute(const std::string& object_path, const std::string& name) const {
   H5Handle object(H5Oopen(file_, object_path.c_str(), H5P_DEFAULT), H5Oclose, "open " + object_path);
   H5Handle attribute(H5Aopen(object, name.c_str(), H5P_DEFAULT), H5Aclose, "open attribute " + name);
+  require_one_value(attribute, object_path + "@" + name);
   double value = 0;
   h5_check(H5Aread(attribute, H5T_NATIVE_DOUBLE, &value), "read attribute " + name);
   return value;
@@ -141,6 +153,7 @@ double H5mdReader::double_attribute(const std::string& object_path, const std::s
 std::int64_t H5mdReader::integer_attribute(const std::string& object_path, const std::string& name) const {
   H5Handle object(H5Oopen(file_, object_path.c_str(), H5P_DEFAULT), H5Oclose, "open " + object_path);
   H5Handle attribute(H5Aopen(object, name.c_str(), H5P_DEFAULT), H5Aclose, "open attribute " + name);
+  require_one_value(attribute, object_path + "@" + name);
   std::int64_t value = 0;
   h5_check(H5Aread(attribute, H5T_NATIVE_INT64, &value), "read attribute " + name);
   return value;

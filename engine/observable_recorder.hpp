@@ -39,9 +39,10 @@ class ObservableRecorder : public System {
 
   std::string name() const override { return "write_observables"; }
   Access access() const override {
+    // It clears each slot's `fresh` flag, so it writes the observables it records.
     Access access;
     access.reads<Clock>().writes<OutputFile>();
-    for (const auto& name : observables_) access.reads_observable(name);
+    for (const auto& name : observables_) access.writes_observable(name);
     return access;
   }
   void run(World& world) override {

@@ -99,6 +99,23 @@ CheckpointContents load_for_resume(const std::string& path, const ConfigSchema& 
   return contents;
 }
 
+// A checkpoint that reads but holds impossible state (sizes, indices,
+// values) is refused with what is wrong, rather than crashing or silently
+// continuing from it.
+template <class Action>
+void refusing_bad_checkpoint(const std::string& path, bool resuming, Action&& action) {
+  if (!resuming) return action();
+  try {
+    action();
+  } catch (const std::invalid_argument& error) {
+    throw InputError(fmt::format("--resume: checkpoint '{}' is not usable: {}; delete it to start afresh", path,
+                                 error.what()));
+  } catch (const std::out_of_range& error) {
+    throw InputError(fmt::format("--resume: checkpoint '{}' lacks data this run needs ({}); delete it to start afresh",
+                                 path, error.what()));
+  }
+}
+
 std::string output_path_of(const Scenario& scenario, const RunOptions& options) {
   return options.output_path.empty() ? scenario.default_output : options.output_path;
 }
@@ -131,11 +148,13 @@ int single_run(const Scenario& scenario, const Config& config, const RunOptions&
   {
     Progress setup(scenario.name + " setup", "", options.progress);
     run.on_setup_progress([&setup](const std::string& phase, double fraction) { setup.update(fraction, 0.0, phase); });
-    scenario.build(run);
+    refusing_bad_checkpoint(checkpoint, resumed.has_value(), [&] {
+      scenario.build(run);
+      run.prepare();
+    });
     setup.finish();
     run.on_setup_progress({});
   }
-  run.prepare();
   if (guard && guard->requested()) {
     spdlog::warn("interrupted (signal {}) while preparing the initial state: nothing to resume", guard->signal_number());
     return exit_interrupted(guard->signal_number());
@@ -270,6 +289,7 @@ int ensemble_run(const Scenario& scenario, const Config& config, const RunOption
                     fmt::format("{}/{} runs", std::count(fraction.begin(), fraction.end(), 1.0), count));
   };
   std::optional<std::pair<std::size_t, std::string>> failure;
+  refusing_bad_checkpoint(checkpoint, options.resume, [&] {
   run_members(scenario, config, profiler, interrupt, finished, in_progress, [&](std::size_t r, Run& run, const RunOutcome& outcome) {
     std::lock_guard hold(lock);
     if (outcome.kind == RunOutcome::Kind::interrupted) {
@@ -285,6 +305,7 @@ int ensemble_run(const Scenario& scenario, const Config& config, const RunOption
     std::lock_guard hold(lock);
     fraction[r] = std::min(run.progress_fraction(), 0.999);
     show();
+  });
   });
   progress.finish();
   const auto done = static_cast<std::size_t>(

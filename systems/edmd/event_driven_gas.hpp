@@ -254,6 +254,7 @@ class EventDrivenGas : public Stateful {
     if (hot.size() != n * (2 * D + 2) || plan.size() != 4 * n || cell.size() != n || in.at("event_time").size() != n ||
         in.at("scalars").size() != 10)
       throw std::invalid_argument("checkpoint does not match the number of particles");
+    validate_state(in);
     plan_.assign(n, Plan{never, 0, 0});
     event_kind_.assign(n, EventKind::none);
     for (std::size_t i = 0; i < n; ++i) {
@@ -287,6 +288,54 @@ class EventDrivenGas : public Stateful {
   // takes effect at the next start() or re-sort.
   void set_resort_interval(std::uint64_t pair_collisions) { resort_every_ = pair_collisions; }
   std::uint64_t resorts() const { return resorts_; }
+
+  // Refuses a saved state that could not have come from a run (damaged or
+  // crafted), naming what is wrong, before any of it is used as an index.
+  void validate_state(const StateMap& in) const {
+    const std::size_t n = world_.size();
+    const auto fail = [](const std::string& what) { throw std::invalid_argument("event-driven state: " + what); };
+    const auto& box = world_.template resource<Box<D>>();
+    const auto& mass = world_.template component<Mass>();
+    const auto& id = world_.template component<ParticleId>();
+    std::vector<bool> seen(n, false);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!(mass[i] > 0) || !std::isfinite(mass[i])) fail(fmt::format("particle {} has mass {}", i, mass[i]));
+      if (id[i] >= n || seen[id[i]]) fail(fmt::format("particle id {} at {} is out of range or repeated", id[i], i));
+      seen[id[i]] = true;
+    }
+    const auto& s = in.at("scalars");
+    const double now = s.at(0);
+    if (!std::isfinite(now) || !(s.at(1) >= 0) || !std::isfinite(s.at(1)))
+      fail(fmt::format("time {} or kinetic energy {} is impossible", now, s.at(1)));
+    for (double v : s)
+      if (!std::isfinite(v)) fail("a counter is not finite");
+    const auto& hot = in.at("hot");
+    for (std::size_t i = 0; i < n; ++i) {
+      const double* h = &hot[i * (2 * D + 2)];
+      for (int a = 0; a < D; ++a) {
+        const double slack = 1e-9 * box.length[a];
+        if (!(h[a] >= -slack && h[a] <= box.length[a] + slack))
+          fail(fmt::format("particle {} is at {} on axis {}, outside the box [0, {}]", i, h[a], a, box.length[a]));
+        if (!std::isfinite(h[D + a])) fail(fmt::format("particle {} has a velocity that is not finite", i));
+      }
+      if (!std::isfinite(h[2 * D]) || h[2 * D] > now) fail(fmt::format("particle {} has local time {}", i, h[2 * D]));
+      if (!(h[2 * D + 1] > 0) || !std::isfinite(h[2 * D + 1])) fail(fmt::format("particle {} has radius {}", i, h[2 * D + 1]));
+    }
+    const auto& plan = in.at("plan");
+    const auto& cell = in.at("cell");
+    const auto& event = in.at("event_time");
+    const auto cells = static_cast<double>(grid_.cell_total());
+    for (std::size_t i = 0; i < n; ++i) {
+      if (std::isnan(plan[4 * i]) || !(plan[4 * i + 1] >= 0 && plan[4 * i + 1] < static_cast<double>(n)) ||
+          plan[4 * i + 1] != std::floor(plan[4 * i + 1]) || !(plan[4 * i + 2] >= 0) ||
+          !(plan[4 * i + 3] >= 0 && plan[4 * i + 3] < static_cast<double>(crossing_kind(D - 1, true)) + 1) ||
+          plan[4 * i + 3] != std::floor(plan[4 * i + 3]))
+        fail(fmt::format("particle {} has an impossible planned event", i));
+      if (!(cell[i] >= 0 && cell[i] < cells) || cell[i] != std::floor(cell[i]))
+        fail(fmt::format("particle {} is in cell {} of {}", i, cell[i], cells));
+      if (std::isnan(event[i]) || event[i] < now) fail(fmt::format("particle {} has event time {}", i, event[i]));
+    }
+  }
 
   // Memory the engine and the components it uses hold per particle.
   std::size_t bytes_per_particle() const {

@@ -232,6 +232,15 @@ print("ok: a finished run extended from t = 0.5 to 1.5 with --resume")
 PY
 
 "$granflow" list | grep -q haff_cooling || { echo "FAIL: list"; failures=$((failures + 1)); }
+# A result file whose one-value attribute holds many is refused, not read past its end.
+cp "$work/t1.h5" "$work/crafted.h5"
+/usr/bin/python3 -c "
+import sys, h5py, numpy as np
+with h5py.File(sys.argv[1], 'a') as f:
+    del f['/parameters/run'].attrs['seed']
+    f['/parameters/run'].attrs['seed'] = np.arange(64, dtype=np.int64)
+" "$work/crafted.h5"
+expect_error "attribute /parameters/run@seed holds 64 values, expected one" info "$work/crafted.h5"
 expect_error "is not an HDF5 file" info "$scenario"
 
 echo "$failures failure(s)"
