@@ -60,6 +60,17 @@ class H5Handle {
 };
 
 // Silences HDF5's own error printing; granflow reports errors itself.
-inline void h5_quiet() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+// Also keeps HDF5 from closing leftover identifiers at process exit: a file
+// whose close failed on a full disk stays half-open inside HDF5 1.10, and
+// closing it again there crashes (every identifier granflow opens is closed
+// by its owner). H5dont_atexit acts only before HDF5's first call.
+inline void h5_quiet() {
+  static const bool once = [] {
+    H5dont_atexit();
+    return true;
+  }();
+  (void)once;
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
 
 }  // namespace granflow

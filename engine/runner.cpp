@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "engine/checkpoint_file.hpp"
+#include "engine/h5_handle.hpp"
 #include "engine/h5md_file.hpp"
 #include "engine/h5md_reader.hpp"
 #include "engine/interrupt.hpp"
@@ -357,7 +358,19 @@ EnsembleResults simulate_ensemble(const Scenario& scenario, const Config& config
 }
 
 int run_scenario(const Scenario& scenario, const Config& config, const RunOptions& options) {
-  return scenario.ensemble() ? ensemble_run(scenario, config, options) : single_run(scenario, config, options);
+  try {
+    return scenario.ensemble() ? ensemble_run(scenario, config, options) : single_run(scenario, config, options);
+  } catch (const H5Error& error) {
+    // The usual cause of a failed write: say so where it is so.
+    const std::string output = output_path_of(scenario, options);
+    const auto directory = std::filesystem::absolute(output).parent_path();
+    std::error_code ignored;
+    const auto space = std::filesystem::space(directory, ignored);
+    if (!ignored && space.available < (1u << 20))
+      throw H5Error(fmt::format("{} (the file system of '{}' is full: {} bytes free)", error.what(), output,
+                                space.available));
+    throw;
+  }
 }
 
 }  // namespace granflow
