@@ -3,6 +3,7 @@
 // (which is always included).
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include <fmt/format.h>
@@ -14,11 +15,16 @@ namespace granflow {
 // More output times than this is a configuration mistake, not a request.
 inline constexpr double max_output_times = 1e7;
 
-inline std::vector<double> linear_output_times(double t_stop, double interval) {
+// `key` names the interval's key in the message.
+inline void check_output_count(double t_stop, double interval, const std::string& key = "output.interval") {
   if (t_stop / interval > max_output_times)
-    throw ConfigError(fmt::format("output.interval = {} with run.t_stop = {} asks for {:.3g} output times (at most "
-                                  "{:g}); increase output.interval",
-                                  interval, t_stop, t_stop / interval, max_output_times));
+    throw ConfigError(fmt::format("{} = {} with run.t_stop = {} asks for {:.3g} output times (at most {:g}); "
+                                  "increase {}",
+                                  key, interval, t_stop, t_stop / interval, max_output_times, key));
+}
+
+inline std::vector<double> linear_output_times(double t_stop, double interval) {
+  check_output_count(t_stop, interval);
   std::vector<double> times{0.0};
   for (std::size_t k = 1;; ++k) {
     const double t = static_cast<double>(k) * interval;

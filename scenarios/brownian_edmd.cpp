@@ -62,6 +62,7 @@ void build(Run& run) {
   times.erase(times.begin());  // the MSD is 0 at t = 0
   run.keep("msd", run.observe<MsdObserver<D>>(std::make_shared<AtTimes>(times), run.world()));
   const double interval = c.real("msd.sample_interval");
+  if (c.integer("msd.time_average_particles") > 0) check_output_count(c.real("run.t_stop"), interval, "msd.sample_interval");
   add_time_averaged_msd<D>(run, std::make_shared<EveryTime>(interval, Trigger::never),
                            static_cast<std::uint64_t>(c.real("run.t_stop") / interval) + 1);
   run.stop_at_time(c.real("run.t_stop"));

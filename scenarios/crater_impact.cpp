@@ -33,6 +33,7 @@
 #include <numbers>
 
 #include "components/species.hpp"
+#include "engine/output_times.hpp"
 #include "engine/run.hpp"
 #include "engine/scenario.hpp"
 #include "systems/edmd/event_driven_run.hpp"
@@ -71,6 +72,12 @@ void build_crater(World& world, const Config& config) {
   auto& species = world.add_component<Species>();
   auto& position = world.add_component<Position<2>>();
   auto& velocity = world.add_component<Velocity<2>>();
+  Box<2> bed_region;
+  bed_region.length = {1.0, height};
+  bed_region.periodic.fill(false);
+  edmd::check_equilibration_length<2>(bed_region, count, r0, config.real("system.mass"), 1.0,
+                                      config.real("bed.melt_collisions"),
+                                      "bed.melt_collisions, bed.packing_fraction or system.count");
   const auto bed = place_melted_lattice(count, r0, 1.0, height, config.real("bed.melt_collisions"),
                                         static_cast<std::uint64_t>(config.integer("run.seed")));
   for (std::size_t i = 0; i < count; ++i) {
@@ -130,6 +137,7 @@ void build(Run& run) {
   auto& gas = edmd::add_event_driven_gas<2>(run, box, edmd::CollisionParameters::from(c),
                                             edmd::advance_limits_from(c, run.world().size(), energy0), energy0);
   if (!run.resuming()) gas.synchronize(0.0);
+  check_output_count(c.real("run.t_stop"), c.real("output.interval"));
   const auto outputs = std::make_shared<EveryTime>(c.real("output.interval"), c.real("run.t_stop"));
   run.observe<KineticEnergyObserver<2>>(outputs);
   run.observe<CollisionsPerParticleObserver<2>>(outputs);

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "components/species.hpp"
+#include "engine/output_times.hpp"
 #include "engine/run.hpp"
 #include "scenarios/speed_output.hpp"
 #include "systems/edmd/event_driven_run.hpp"
@@ -119,6 +120,7 @@ void build_speed_study(Run& run, const std::vector<std::string>& species_names,
   for (std::size_t k = 0; k < snapshots; ++k)
     snapshot_steps.push_back(static_cast<std::int64_t>(
         std::ceil((first + static_cast<double>(k) * between) * static_cast<double>(count) / 2)));
+  check_output_count(t_stop, c.real("output.interval"));
   const TriggerPtr outputs = std::make_shared<EveryTime>(c.real("output.interval"), t_stop);
   const TriggerPtr at_snapshots = std::make_shared<AtSteps>(snapshot_steps);
   const TriggerPtr observed = std::make_shared<AnyOf>(std::vector<TriggerPtr>{outputs, at_snapshots});

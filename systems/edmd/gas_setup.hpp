@@ -22,6 +22,7 @@
 #include "engine/memory_check.hpp"
 #include "engine/world.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
+#include "systems/edmd/kinetic_theory.hpp"
 #include "systems/initial/initial_velocities.hpp"
 #include "systems/initial/random_placement.hpp"
 
@@ -97,6 +98,39 @@ inline AdvanceLimits advance_limits_from(const Config& config, std::size_t count
 // 190-200 bytes, docs/performance.md) plus the placement's scratch space.
 inline constexpr double bytes_per_particle_estimate = 280.0;
 
+// Events an elastic run of `collisions` per particle needs: the collisions
+// and the cell crossings in between (Enskog collision frequency; cells at
+// least a diameter wide, at most 3 per particle). A dilute gas of tiny
+// particles crosses cells ~1/r^2 times per collision; this is refused when it
+// could not finish and warned about when it takes hours.
+// `keys` names the settings in the refusal.
+template <int D>
+void check_equilibration_length(const Box<D>& box, std::size_t count, double radius, double mass, double speed,
+                                double collisions,
+                                const std::string& keys = "initial.equilibration_collisions, system.radius, "
+                                                          "system.count; or use initial.velocity = "
+                                                          "\"maxwell_boltzmann\"") {
+  if (count < 2 || collisions <= 0) return;
+  const auto n = static_cast<double>(count);
+  const double volume = box.volume();
+  const double temperature = mass * speed * speed / D;
+  const double omega = theory::collision_frequency<D>(n / volume, 2 * radius, temperature, mass,
+                                                      theory::packing_fraction<D>(n, radius, volume));
+  const double duration = collisions / omega;
+  const double width = std::max(2 * radius, std::pow(volume / (3.0 * n), 1.0 / D));
+  const double axis_speed = std::sqrt(2.0 * temperature / (std::numbers::pi * mass));
+  const double events = collisions * n / 2 + n * duration * D * axis_speed / width;
+  constexpr double events_per_hour = 3.6e9;  // about 1 us per event
+  if (events > 1e4 * events_per_hour)
+    throw ConfigError(fmt::format("the elastic equilibration ({} collisions per particle) would need about {:.2g} "
+                                  "events (~{:.2g} hours): the gas is too dilute for particles of radius {}; "
+                                  "change {}",
+                                  collisions, events, events / events_per_hour, radius, keys));
+  if (events > events_per_hour)
+    spdlog::warn("the elastic equilibration will need about {:.2g} events (~{:.2g} hours)", events,
+                 events / events_per_hour);
+}
+
 // Fills an empty world (of system.count entities) with the configured gas at
 // t = 0. `customize` may change masses, radii or add components (a mixture's
 // species) before particles are placed and given velocities.
@@ -141,6 +175,8 @@ void build_gas(World& world, const Config& config, std::uint64_t seed,
 
   if (kind == "equilibrated") {
     const double collisions = config.real("initial.equilibration_collisions");
+    check_equilibration_length<D>(box, count, config.real("system.radius"), config.real("system.mass"),
+                                  config.real("initial.speed"), collisions);
     CollisionParameters elastic;
     elastic.wall_restitution = 1.0;
     EventDrivenGas<D> gas(world, elastic);

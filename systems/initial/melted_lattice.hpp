@@ -54,8 +54,12 @@ inline std::vector<Vec<2>> place_melted_lattice(std::size_t count, double radius
     }
     return sites;
   };
-  // Widest spacing that still offers `count` sites.
-  double lo = 2.0 * radius, hi = std::max(inner_w, inner_h) + 2.0 * radius;
+  // Widest spacing that still offers `count` sites, bracketed around the
+  // spacing whose cells would tile the region (area a^2 sqrt(3)/2 per site),
+  // so a dilute bed never builds the (1/radius)^2 sites of the densest lattice.
+  const double tiling = std::sqrt(inner_w * inner_h * 2.0 / (std::sqrt(3.0) * static_cast<double>(count)));
+  double lo = std::max(2.0 * radius, 0.25 * tiling), hi = std::max(inner_w, inner_h) + 2.0 * radius;
+  if (lo > 2.0 * radius && sites_for(lo).size() < count) lo = 2.0 * radius;
   if (sites_for(lo).size() < count)
     throw PlacementError(fmt::format("cannot place {} disks of radius {} in {} x {}: packing fraction {:.4f} exceeds "
                                      "what a triangular lattice in this region holds",

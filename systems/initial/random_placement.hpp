@@ -65,8 +65,9 @@ std::vector<Vec<D>> place_randomly(const Box<D>& box, const PlacementRegion<D>& 
     wraps[a] = box.periodic[a] && region.lower[a] <= 0.0 && region.upper[a] >= box.length[a];
     region_volume *= region.upper[a] - region.lower[a];
     if (!wraps[a] && region.upper[a] - region.lower[a] <= 2.0 * max_radius)
-      throw PlacementError(fmt::format("placement region along axis {} ({} wide) is narrower than a particle", a,
-                                       region.upper[a] - region.lower[a]));
+      throw PlacementError(fmt::format("placement region along axis {} ({} wide) is narrower than a particle "
+                                       "(diameter {}): lower system.radius or enlarge the box",
+                                       a, region.upper[a] - region.lower[a], 2.0 * max_radius));
   }
   double occupied = 0.0;
   for (double r : radii) occupied += ball_volume<D>(r);

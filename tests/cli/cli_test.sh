@@ -50,6 +50,12 @@ expect_error "--threads: Value 0 not in range" run "$scenario" --threads 0
 if [[ -e "$work/x.h5" || -e "$work/x.h5.partial" ]]; then
   echo "FAIL: a failed run left $work/x.h5 or its .partial"; failures=$((failures + 1))
 fi
+# Values inside the ranges that would never finish are refused up front.
+expect_error "would need about" run "$scenario" --set system.count=100 --set system.radius=1e-9 -o "$work/x.h5"
+expect_error "output.interval = 1e-09 with run.t_stop = 100 asks for 1e+11 output times" \
+  run "$(dirname "$scenario")/speed_distribution.toml" --set output.interval=1e-9 -o "$work/x.h5"
+expect_error "output.interval = 1e-308 with run.t_stop = 10 asks for inf output times" \
+  run "$(dirname "$scenario")/crater_impact.toml" --set output.interval=1e-308 -o "$work/x.h5"
 # The output path is checked before any work.
 expect_error "output '$work' is a directory" run "$scenario" "${small[@]}" -o "$work"
 expect_error "directory '$work/missing' does not exist" run "$scenario" "${small[@]}" -o "$work/missing/x.h5"
