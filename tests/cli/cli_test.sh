@@ -237,6 +237,16 @@ if not np.array_equal(a["/observables/kinetic_energy/value"][()], b["/observable
 print("ok: a finished run extended from t = 0.5 to 1.5 with --resume")
 PY
 
+# An ensemble stopped by inelastic collapse exits 3 with the diagnosis and leaves no checkpoint behind.
+status=0
+"$granflow" run "$scenarios/brownian_edmd.toml" --set collision.restitution=0.1 --set collision.contact_time=0 \
+  --set run.runs=2 --set system.radius=0.04 --set run.t_stop=50 --set output.checkpoint_interval=0 -q \
+  -o "$work/collapse.h5" 2> "$work/collapse.log" || status=$?
+if [[ $status -ne 3 ]] || ! grep -q "inelastic collapse" "$work/collapse.log"; then
+  echo "FAIL: collapsing brownian_edmd exited $status"; cat "$work/collapse.log"; failures=$((failures + 1))
+fi
+[[ -e "$work/collapse.h5.checkpoint" ]] && { echo "FAIL: collapsed ensemble left its checkpoint"; failures=$((failures + 1)); }
+
 "$granflow" list | grep -q haff_cooling || { echo "FAIL: list"; failures=$((failures + 1)); }
 # A result file whose one-value attribute holds many is refused, not read past its end.
 cp "$work/t1.h5" "$work/crafted.h5"
