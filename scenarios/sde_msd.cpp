@@ -86,6 +86,10 @@ Stepping stepping_from(const Config& config, const sde::SdeModel& model, int dim
     throw ConfigError(fmt::format("run.dt = {} with gamma0 = {:.4g}: Euler-Maruyama's velocity update diverges for "
                                   "gamma0 * dt >= 2 (here {:.3g}); lower run.dt or use run.scheme = \"exact_ou\"",
                                   s.dt, model.gamma0, model.gamma0 * s.dt));
+  if (model.scaled() && sde::moment_msd_steps(model, t_stop) > 1e10)
+    throw ConfigError(fmt::format("the UDSBM theory curve would need {:.3g} integration steps (gamma0 * tau0 = {:.3g}); "
+                                  "lower gamma0 or tau0 (sde.* or gas.*) or run.t_stop",
+                                  sde::moment_msd_steps(model, t_stop), model.gamma0 * model.tau0));
   const double speed = config.real("initial.speed");
   s.initial_velocity_variance = config.text("initial.velocity") == "stationary"
                                     ? model.stationary_velocity_variance(0.0)

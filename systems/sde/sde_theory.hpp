@@ -1,7 +1,7 @@
 #pragma once
 // Theory of the ensemble MSD of Langevin dynamics and UDSBM, per Cartesian
-// component: the closed forms of seed 000 (eq. 2.68; eq. 2.113 with
-// stationary initial velocities) and, for any initial velocity variance, the
+// component: the closed forms for stationary initial velocities (Langevin;
+// UDSBM: Bodrova et al. 2016) and, for any initial velocity variance, the
 // exact second-moment equations
 //   d<x^2>/dt = 2 <xv>,  d<xv>/dt = <v^2> - gamma <xv>,
 //   d<v^2>/dt = -2 gamma <v^2> + 2 D gamma^2,
@@ -30,8 +30,26 @@ inline double udsbm_msd(const SdeModel& m, double t) {
          (std::log(u) - (1.0 - std::pow(u, 1.0 - k)) / (k - 1.0));
 }
 
-// MSD per component at each of `times` (ascending) for initial velocity variance v2.
-inline std::vector<double> moment_msd(const SdeModel& m, double v2, const std::vector<double>& times) {
+// The moment equations of Langevin dynamics (constant gamma and D) in closed
+// form for any initial velocity variance v2 (A = v2 - D gamma):
+//   <v^2> = D gamma + A e^{-2 gamma t},
+//   <xv>  = D (1 - e^{-gamma t}) + (A / gamma)(e^{-gamma t} - e^{-2 gamma t}),
+//   <x^2> = 2 D t - 2 D (1 - e^{-gamma t}) / gamma
+//           + (2 A / gamma^2) [(1 - e^{-gamma t}) - (1 - e^{-2 gamma t}) / 2].
+inline double langevin_moment_msd(const SdeModel& m, double v2, double t) {
+  const double g = m.gamma0, d = m.diffusivity0, a = v2 - d * g;
+  const double one = -std::expm1(-g * t), two = -std::expm1(-2.0 * g * t);
+  return 2.0 * d * t - 2.0 * d * one / g + 2.0 * a / (g * g) * (one - 0.5 * two);
+}
+
+// Classical Runge-Kutta steps the UDSBM moment equations need up to t_stop:
+// steps of 0.02 / gamma(t) grow as the friction decays.
+inline double moment_msd_steps(const SdeModel& m, double t_stop) {
+  return m.gamma0 * m.tau0 / 0.02 * std::log1p(t_stop / m.tau0);
+}
+
+// The moment equations integrated (any model; moment_msd_steps steps for UDSBM).
+inline std::vector<double> integrated_moment_msd(const SdeModel& m, double v2, const std::vector<double>& times) {
   std::vector<double> out;
   double x2 = 0.0, xv = 0.0, vv = v2, t = 0.0;
   const auto rates = [&](double time, double b, double c, double& da, double& db, double& dc) {
@@ -57,6 +75,16 @@ inline std::vector<double> moment_msd(const SdeModel& m, double v2, const std::v
     }
     out.push_back(x2);
   }
+  return out;
+}
+
+// MSD per component at each of `times` (ascending) for initial velocity
+// variance v2: closed form for Langevin, integrated for UDSBM (callers bound
+// moment_msd_steps first).
+inline std::vector<double> moment_msd(const SdeModel& m, double v2, const std::vector<double>& times) {
+  if (m.scaled()) return integrated_moment_msd(m, v2, times);
+  std::vector<double> out;
+  for (double t : times) out.push_back(langevin_moment_msd(m, v2, t));
   return out;
 }
 

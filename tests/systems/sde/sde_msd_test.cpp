@@ -59,6 +59,20 @@ TEST(SdeTheory, ClosedFormsSolveTheMomentEquations) {
   EXPECT_NEAR(6 * langevin.diffusivity0, 0.350, 0.001);
   const auto l = moment_msd(langevin, langevin.stationary_velocity_variance(), times);
   for (std::size_t k = 0; k < times.size(); ++k) EXPECT_NEAR(l[k] / langevin_msd(langevin, times[k]), 1.0, 1e-7);
+  // The closed form for any initial variance: against the integrated moment
+  // equations once several 1/gamma have passed (the integrator's first steps
+  // are off by ~(gamma h)^2), and against the Taylor series
+  // v2 t^2 + (2 D gamma^2 - 3 gamma v2) t^3 / 3 at gamma t = 1e-3, whose next
+  // term is smaller by ~gamma t.
+  const std::vector<double> late{1.0, 10.0, 100.0};
+  const double g = langevin.gamma0, d = langevin.diffusivity0, t = 1e-3 / langevin.gamma0;
+  for (double v2 : {0.0, 0.2, 3.0}) {
+    const auto closed = moment_msd(langevin, v2, late);
+    const auto integrated = integrated_moment_msd(langevin, v2, late);
+    for (std::size_t k = 0; k < late.size(); ++k) EXPECT_NEAR(closed[k] / integrated[k], 1.0, 1e-7) << v2;
+    const double series = v2 * t * t + (2 * d * g * g - 3 * g * v2) * t * t * t / 3;
+    EXPECT_NEAR(langevin_moment_msd(langevin, v2, t) / series, 1.0, 3e-3) << v2;
+  }
   SdeModel udsbm = gas_model(0.8);
   ASSERT_TRUE(udsbm.scaled());
   const auto u = moment_msd(udsbm, udsbm.stationary_velocity_variance(), times);
