@@ -21,5 +21,5 @@ export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1"
 for t in "${tests[@]}"; do "$build/tests/$t" --gtest_brief=1; done
 tests/cli/checkpoint_corruption_test.sh "$build/granflow" scenarios/haff_cooling.toml > "$build.corruption.log" || {
   cat "$build.corruption.log"; exit 1; }
-tests/cli/interrupt_test.sh "$build/granflow" scenarios
+GRANFLOW_SLOWDOWN=4 tests/cli/interrupt_test.sh "$build/granflow" scenarios
 echo "sanitizer stage passed"

@@ -17,7 +17,8 @@ check() {  # check NAME TOML "observables..." ARGS...
   "$granflow" run "$scenarios/$toml" "$@" -q -o "$work/$name-whole.h5" || { echo "FAIL: $name uninterrupted"; failures=$((failures + 1)); return; }
   "$granflow" run "$scenarios/$toml" "$@" -o "$work/$name-cut.h5" 2> "$work/$name.log" &
   local pid=$!
-  sleep "$DELAY"
+  # Instrumented builds (tests/sanitizers.sh) run several times slower.
+  sleep "$(awk -v d="$DELAY" -v s="${GRANFLOW_SLOWDOWN:-1}" 'BEGIN { print d * s }')"
   kill -INT $pid
   wait $pid; local status=$?
   if [[ $status -ne 130 ]]; then
