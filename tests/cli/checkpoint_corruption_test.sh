@@ -11,8 +11,7 @@
 set -u
 granflow="$1"
 scenario="$2"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/common.sh"
 args=(--set system.count=300 --set run.t_stop=0.5 --set initial.equilibration_collisions=2 -q)
 "$granflow" run "$scenario" "${args[@]}" --set output.final_checkpoint=true -o "$work/base.h5" || exit 1
 cp "$work/base.h5.checkpoint" "$work/pristine.checkpoint"

@@ -6,9 +6,7 @@
 set -u
 granflow="$1"
 scenarios="$2"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-failures=0
+source "$(dirname "$0")/common.sh"
 args=(--set system.count=3000 --set system.radius=0.01 --set run.t_stop=5 --set output.positions=all -q)
 
 status=0

@@ -8,9 +8,7 @@
 set -u
 granflow="$1"
 scenarios="$2"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-failures=0
+source "$(dirname "$0")/common.sh"
 
 check() {  # check NAME TOML "observables..." ARGS...
   local name="$1" toml="$2" observables="$3"; shift 3
