@@ -114,6 +114,7 @@ std::string trimmed(const std::string& text) {
 // A --set value as TOML: "[46, 46, 46]", "[{x = 0.5}]".
 ConfigValue from_toml_text(const KeySpec& spec, const std::string& text) {
   toml::table parsed;
+  require_ascii_outside_strings(text, "--set " + spec.key);
   try {
     parsed = toml::parse("value = " + text, "--set " + spec.key);
   } catch (const toml::parse_error& error) {
@@ -268,6 +269,7 @@ Config::Config(const ConfigSchema& schema) : schema_(&schema) {
 Config Config::from_toml_text(const ConfigSchema& schema, const std::string& text, const std::string& origin) {
   Config config(schema);
   toml::table table;
+  require_ascii_outside_strings(text, origin);
   try {
     table = toml::parse(text, origin);
   } catch (const toml::parse_error& error) {

@@ -4,6 +4,7 @@
 // flattened into dotted keys ("collision.restitution"), so a key can be
 // written as a table entry or as a quoted dotted name alike.
 
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -22,10 +23,58 @@ inline ConfigError toml_parse_failure(const std::string& what, const toml::parse
   return ConfigError(fmt::format("cannot parse {}: {}", what, text.str()));
 }
 
+// toml++ 3.3 reaches code it marks unreachable (undefined behaviour) for
+// bare keys with some non-ASCII letters. granflow's keys are ASCII, so any
+// byte above 0x7f outside a string or a comment is refused before parsing,
+// with its line.
+inline void require_ascii_outside_strings(const std::string& text, const std::string& what) {
+  std::size_t line = 1;
+  char quote = 0;      // inside "..." or '...'
+  bool multiline = false;
+  bool comment = false;
+  for (std::size_t k = 0; k < text.size(); ++k) {
+    const char c = text[k];
+    if (c == '\n') {
+      ++line;
+      comment = false;
+      if (!multiline) quote = 0;
+      continue;
+    }
+    if (comment) continue;
+    if (quote) {
+      if (quote == '"' && c == '\\') {
+        ++k;  // an escaped character
+        continue;
+      }
+      if (c == quote && (!multiline || text.compare(k, 3, std::string(3, quote)) == 0)) {
+        if (multiline) k += 2;
+        quote = 0;
+        multiline = false;
+      }
+      continue;
+    }
+    if (c == '#') {
+      comment = true;
+    } else if (c == '"' || c == '\'') {
+      quote = c;
+      multiline = text.compare(k, 3, std::string(3, c)) == 0;
+      if (multiline) k += 2;
+    } else if (static_cast<unsigned char>(c) > 0x7f) {
+      throw ConfigError(fmt::format("cannot parse {}: line {} has a non-ASCII character outside a string or comment "
+                                    "(keys are ASCII)",
+                                    what, line));
+    }
+  }
+}
+
 // `what` names the file in messages, e.g. "sweep file x.toml".
 inline toml::table parse_toml_file(const std::string& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  require_ascii_outside_strings(buffer.str(), what);
   try {
-    return toml::parse_file(path);
+    return toml::parse(buffer.str(), path);
   } catch (const toml::parse_error& error) {
     throw toml_parse_failure(what, error);
   }

@@ -149,6 +149,20 @@ TEST(Config, ListErrorsNameTheKeyAndTheItem) {
             std::string::npos);
 }
 
+TEST(Config, NonAsciiOutsideStringsIsRefusedBeforeParsing) {
+  const auto s = schema();
+  // Allowed inside strings and comments, single- and multi-line.
+  EXPECT_EQ(Config::from_toml_text(s, "# caf\u00e9\n[system]\nboundary = 'periodic' # \u00e9\n", "test")
+                .text("system.boundary"),
+            "periodic");
+  EXPECT_NE(error_of([&] { Config::from_toml_text(s, "x = \"\u00e9\"\n[system]\nc\u00a1ount = 3\n", "test"); })
+                .find("cannot parse test: line 3 has a non-ASCII character outside a string or comment"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { Config::from_toml_text(s, "a = \"\"\"x\n\u00e9\"\"\"\n\u00e9 = 1\n", "test"); })
+                .find("line 3 has a non-ASCII"),
+            std::string::npos);
+}
+
 TEST(Config, SetTrimsSpacesAndReadsIntegersWrittenWithExponents) {
   const auto s = schema();
   Config c(s);
