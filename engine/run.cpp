@@ -93,40 +93,40 @@ StateMap Run::save() const {
   return out;
 }
 
+// Runs the observers `due` picks (by index), and then the recorder. The
+// mask is kept between rounds: time-stepped runs fire every step.
+template <class Due>
+void Run::run_observers(Due&& due) {
+  enabled_.assign(observers_.size(), false);
+  bool any = false;
+  for (std::size_t k = 0; k < observer_triggers_.size(); ++k) {
+    enabled_[k] = due(*observer_triggers_[k]);
+    any = any || enabled_[k];
+  }
+  if (!any) return;
+  enabled_.back() = true;  // the recorder
+  observers_.run(world_, enabled_);
+}
+
 // Observers whose trigger is due at the clock run; at a stop, so do those
 // that were due at the target the run was heading for.
 void Run::fire(bool stopping, double target_time, std::int64_t target_step) {
   const auto& clock = world_.resource<Clock>();
-  std::vector<bool> enabled(observers_.size(), false);
-  bool any = false;
-  for (std::size_t k = 0; k < observer_triggers_.size(); ++k) {
-    const Trigger& t = *observer_triggers_[k];
+  run_observers([&](const Trigger& t) {
     bool due = time_reached(t.next_time(), clock.time) || t.next_step() <= clock.step;
     if (stopping)
       due = due || (t.next_time() != Trigger::never && time_reached(t.next_time(), target_time)) ||
             (t.next_step() != Trigger::no_step && t.next_step() <= target_step);
-    enabled[k] = due;
-    any = any || due;
-  }
-  if (!any) return;
-  enabled.back() = true;  // the recorder
-  observers_.run(world_, enabled);
+    return due;
+  });
 }
 
 void Run::fire_at_end() {
   if (at_end_fired_) return;
   at_end_fired_ = true;
-  std::vector<bool> enabled(observers_.size(), false);
-  bool any = false;
-  for (std::size_t k = 0; k < observer_triggers_.size(); ++k) {
-    enabled[k] = observer_triggers_[k]->at_end();
-    any = any || enabled[k];
-  }
-  if (!any) return;
-  enabled.back() = true;
   auto& control = world_.resource<RunControl>();
   control.ending = true;
-  observers_.run(world_, enabled);
+  run_observers([](const Trigger& t) { return t.at_end(); });
   control.ending = false;
 }
 

@@ -138,6 +138,8 @@ class Run {
   void add_trigger(const TriggerPtr& trigger);
   void fire(bool stopping, double target_time, std::int64_t target_step);
   void fire_at_end();
+  template <class Due>
+  void run_observers(Due&& due);
 
   const Config& config_;
   Profiler& profiler_;
@@ -150,6 +152,7 @@ class Run {
   Schedule observers_;
   std::vector<TriggerPtr> observer_triggers_;
   std::vector<TriggerPtr> triggers_;  // distinct, in declaration order
+  std::vector<bool> enabled_;         // observers of the current round
   ObservableRecorder* recorder_ = nullptr;
   std::vector<std::pair<std::string, double>> derived_;
   std::vector<std::pair<std::string, Stateful*>> kept_;

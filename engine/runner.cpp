@@ -291,22 +291,22 @@ int ensemble_run(const Scenario& scenario, const Config& config, const RunOption
   };
   std::optional<std::pair<std::size_t, std::string>> failure;
   refusing_bad_checkpoint(checkpoint, options.resume, [&] {
-  run_members(scenario, config, profiler, interrupt, finished, in_progress, [&](std::size_t r, Run& run, const RunOutcome& outcome) {
-    std::lock_guard hold(lock);
-    if (outcome.kind == RunOutcome::Kind::interrupted) {
-      in_progress[r] = run.save();
-      return;
-    }
-    if (outcome.kind == RunOutcome::Kind::failed && (!failure || r < failure->first)) failure.emplace(r, outcome.reason);
-    finished[r] = member_record(run);
-    fraction[r] = 1.0;
-    show();
-    if (std::any_of(finished.begin(), finished.end(), [](const auto& m) { return !m; })) save();
-  }, [&](std::size_t r, const Run& run) {
-    std::lock_guard hold(lock);
-    fraction[r] = std::min(run.progress_fraction(), 0.999);
-    show();
-  });
+    run_members(scenario, config, profiler, interrupt, finished, in_progress, [&](std::size_t r, Run& run, const RunOutcome& outcome) {
+      std::lock_guard hold(lock);
+      if (outcome.kind == RunOutcome::Kind::interrupted) {
+        in_progress[r] = run.save();
+        return;
+      }
+      if (outcome.kind == RunOutcome::Kind::failed && (!failure || r < failure->first)) failure.emplace(r, outcome.reason);
+      finished[r] = member_record(run);
+      fraction[r] = 1.0;
+      show();
+      if (std::any_of(finished.begin(), finished.end(), [](const auto& m) { return !m; })) save();
+    }, [&](std::size_t r, const Run& run) {
+      std::lock_guard hold(lock);
+      fraction[r] = std::min(run.progress_fraction(), 0.999);
+      show();
+    });
   });
   progress.finish();
   const auto done = static_cast<std::size_t>(
