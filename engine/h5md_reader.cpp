@@ -159,6 +159,29 @@ std::int64_t H5mdReader::integer_attribute(const std::string& object_path, const
   return value;
 }
 
+std::vector<std::string> H5mdReader::members(const std::string& group_path) const {
+  H5Handle group(H5Gopen2(file_, group_path.c_str(), H5P_DEFAULT), H5Gclose, "open " + group_path);
+  std::vector<std::string> names;
+  const auto collect = [](hid_t, const char* name, const H5L_info_t*, void* out) -> herr_t {
+    static_cast<std::vector<std::string>*>(out)->emplace_back(name);
+    return 0;
+  };
+  h5_check(H5Literate(group, H5_INDEX_NAME, H5_ITER_INC, nullptr, collect, &names), "list " + group_path);
+  return names;
+}
+
+std::vector<std::string> H5mdReader::attribute_names(const std::string& object_path) const {
+  H5Handle object(H5Oopen(file_, object_path.c_str(), H5P_DEFAULT), H5Oclose, "open " + object_path);
+  std::vector<std::string> names;
+  const auto collect = [](hid_t, const char* name, const H5A_info_t*, void* out) -> herr_t {
+    static_cast<std::vector<std::string>*>(out)->emplace_back(name);
+    return 0;
+  };
+  h5_check(H5Aiterate2(object, H5_INDEX_NAME, H5_ITER_INC, nullptr, collect, &names),
+           "list attributes of " + object_path);
+  return names;
+}
+
 std::string H5mdReader::describe() const {
   VisitState state;
   h5_check(H5Ovisit(file_, H5_INDEX_NAME, H5_ITER_NATIVE, describe_object, &state), "walk " + path_);

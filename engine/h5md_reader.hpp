@@ -27,6 +27,10 @@ class H5mdReader {
   double double_attribute(const std::string& object_path, const std::string& name) const;
   std::int64_t integer_attribute(const std::string& object_path, const std::string& name) const;
 
+  // Names of a group's members and of an object's attributes, in name order.
+  std::vector<std::string> members(const std::string& group_path) const;
+  std::vector<std::string> attribute_names(const std::string& object_path) const;
+
   // One line per dataset: path, shape and type, in file order.
   std::string describe() const;
 

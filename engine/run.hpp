@@ -25,6 +25,7 @@
 #include "engine/observable_recorder.hpp"
 #include "engine/observable_store.hpp"
 #include "engine/output_file.hpp"
+#include "engine/preparation.hpp"
 #include "engine/profiler.hpp"
 #include "engine/run_control.hpp"
 #include "engine/schedule.hpp"
@@ -107,11 +108,9 @@ class Run {
     box_edges_ = std::move(edges);
     box_boundary_ = std::move(boundary);
   }
-  // Progress of a long preparation of the initial state (an equilibration),
-  // shown like the run's own.
-  void setup_progress(const std::string& phase, double fraction) const {
-    if (setup_progress_) setup_progress_(phase, fraction);
-  }
+  // What a long phase of making the initial state (placement, an
+  // equilibration) reports its progress to and watches for interruption.
+  Preparation preparation(const std::string& phase) const { return {phase, setup_progress_, interrupt_}; }
   // Output written when the run ends (histograms, totals, a log line); single runs only.
   void at_finish(std::function<void(H5mdFile&, const RunOutcome&)> hook) { finish_hooks_.push_back(std::move(hook)); }
 
@@ -133,6 +132,8 @@ class Run {
   const std::vector<std::string>& box_boundary() const { return box_boundary_; }
   H5mdFile* file() const { return file_; }
   void on_setup_progress(std::function<void(const std::string&, double)> report) { setup_progress_ = std::move(report); }
+  // The flag a preparation watches (the Runner's interrupt guard), or null.
+  void on_interrupt(const std::atomic<bool>* flag) { interrupt_ = flag; }
 
  private:
   void add_trigger(const TriggerPtr& trigger);
@@ -167,6 +168,7 @@ class Run {
   std::vector<std::string> box_boundary_;
   std::vector<std::function<void(H5mdFile&, const RunOutcome&)>> finish_hooks_;
   std::function<void(const std::string&, double)> setup_progress_;
+  const std::atomic<bool>* interrupt_ = nullptr;
   // Time and step of the last round of observers (every trigger has passed them).
   double round_time_ = -std::numeric_limits<double>::infinity();
   std::int64_t round_step_ = -1;

@@ -149,12 +149,23 @@ int single_run(const Scenario& scenario, const Config& config, const RunOptions&
   {
     Progress setup(scenario.name + " setup", "", options.progress);
     run.on_setup_progress([&setup](const std::string& phase, double fraction) { setup.update(fraction, 0.0, phase); });
+    if (guard) run.on_interrupt(&guard->requested());
+    std::optional<std::string> interrupted;
     refusing_bad_checkpoint(checkpoint, resumed.has_value(), [&] {
-      scenario.build(run);
-      run.prepare();
+      try {
+        scenario.build(run);
+        run.prepare();
+      } catch (const PreparationInterrupted& stop) {
+        interrupted = stop.what();
+      }
     });
     setup.finish();
     run.on_setup_progress({});
+    if (interrupted) {
+      spdlog::warn("{} (signal {}) while preparing the initial state: nothing to resume", *interrupted,
+                   guard->signal_number());
+      return exit_interrupted(guard->signal_number());
+    }
   }
   if (guard && guard->requested()) {
     spdlog::warn("interrupted (signal {}) while preparing the initial state: nothing to resume", guard->signal_number());
@@ -216,7 +227,12 @@ void run_members(const Scenario& scenario, const Config& config, Profiler& profi
     StateMap from;
     from.swap(in_progress[r]);  // each member touches only its own entry
     Run run(config, profiler, member_seed(config.integer("run.seed"), r), r, from.empty() ? nullptr : &from, nullptr);
-    scenario.build(run);
+    run.on_interrupt(interrupt);
+    try {
+      scenario.build(run);
+    } catch (const PreparationInterrupted&) {
+      return;  // this member starts afresh when resumed
+    }
     run.prepare();
     const RunOutcome outcome = run.execute(interrupt, [&] {
       if (round) round(r, run);

@@ -1,10 +1,12 @@
 #include "engine/sweep_runner.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <fstream>
@@ -41,24 +43,54 @@ bool finished(const SweepRun& run) {
   return true;
 }
 
-// Last value of a scalar observable, or the attribute of that name on /observables.
+// Scalar observables of a result file: /observables/NAME/value series with
+// one value per time, and numeric attributes of /observables.
+std::vector<std::string> scalar_observables(const H5mdReader& reader) {
+  std::vector<std::string> names;
+  if (!reader.exists("/observables")) return names;
+  for (const auto& name : reader.members("/observables")) {
+    const std::string dataset = "/observables/" + name + "/value";
+    if (!reader.exists(dataset)) continue;
+    const auto array = reader.doubles(dataset);
+    if (array.shape.size() <= 1 || (array.shape.front() > 0 && array.values.size() == array.shape.front()))
+      names.push_back(name);
+  }
+  for (const auto& name : reader.attribute_names("/observables")) {
+    try {
+      (void)reader.double_attribute("/observables", name);
+      names.push_back(name);
+    } catch (const H5Error&) {  // a text attribute (the stop reason)
+    }
+  }
+  return names;
+}
+
+// Summary names are checked against the first result file at hand, so that a
+// misspelt name stops the sweep after one run rather than after all of them.
+void check_summary_names(const SweepPlan& plan, const std::filesystem::path& result) {
+  const H5mdReader reader(result.string());
+  const auto available = scalar_observables(reader);
+  for (const auto& name : plan.summary) {
+    if (std::find(available.begin(), available.end(), name) != available.end()) continue;
+    throw ConfigError(fmt::format("summary observable '{}' is not a scalar observable of {} ({}); its scalar "
+                                  "observables are: {}. Finished runs are kept: fix `summary` and rerun",
+                                  name, plan.scenario, result.string(), fmt::join(available, ", ")));
+  }
+}
+
+// Last value of a scalar observable, or the attribute of that name on
+// /observables; NaN (with a warning) where this run's file lacks it.
 double summary_value(const H5mdReader& reader, const std::string& name, const std::string& path) {
   const std::string dataset = "/observables/" + name + "/value";
-  if (reader.exists(dataset)) {
-    const auto array = reader.doubles(dataset);
-    if (array.values.empty()) return std::nan("");
-    const std::size_t per_row = array.shape.size() <= 1 ? 1 : array.values.size() / array.shape.front();
-    if (per_row != 1)
-      throw ConfigError(fmt::format("summary observable '{}' is not a scalar ({} values per time)", name, per_row));
-    return array.values.back();
-  }
   try {
+    if (reader.exists(dataset)) {
+      const auto array = reader.doubles(dataset);
+      return array.values.empty() ? std::nan("") : array.values.back();
+    }
     return reader.double_attribute("/observables", name);
-  } catch (const H5Error&) {
-    throw ConfigError(fmt::format("summary observable '{}' is neither /observables/{}/value nor an attribute of "
-                                  "/observables in {} (see `granflow info`); the runs are kept, so fixing `summary` and rerunning "
-                                  "only rebuilds the tables",
-                                  name, name, path));
+  } catch (const H5Error& error) {
+    spdlog::warn("{}: summary observable '{}' not readable ({}); its entry is NaN", path, name, error.what());
+    return std::nan("");
   }
 }
 
@@ -179,6 +211,12 @@ int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
     else
       todo.push_back(k);
   }
+  bool summary_checked = false;
+  if (todo.size() < plan.runs.size()) {
+    const auto reused = std::find(status.begin(), status.end(), "done") - status.begin();
+    check_summary_names(plan, plan.runs[static_cast<std::size_t>(reused)].output);
+    summary_checked = true;
+  }
   const int workers = options.workers > 0 ? options.workers : tbb::this_task_arena::max_concurrency();
   spdlog::info("sweep of {}: {} parameter points x {} repeats = {} runs, {} already done, {} workers, results in {}",
                plan.scenario, plan.parameter_values.size(), plan.repeats, plan.runs.size(),
@@ -189,6 +227,8 @@ int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
   spdlog::set_level(spdlog::level::warn);
   std::mutex report;
   std::atomic<std::size_t> done{0};
+  std::atomic<bool> abandoned{false};
+  std::optional<ConfigError> summary_error;
   Progress progress("sweep", "runs/s", options.progress);
   tbb::task_arena arena(workers);
   arena.execute([&] {
@@ -197,6 +237,7 @@ int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
         [&](const tbb::blocked_range<std::size_t>& range) {
           for (std::size_t t = range.begin(); t != range.end(); ++t) {
             const std::size_t k = todo[t];
+            if (abandoned) continue;
             RunOptions run_options;
             run_options.output_path = plan.runs[k].output.string();
             run_options.progress = false;
@@ -212,6 +253,15 @@ int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
             }
             std::lock_guard lock(report);
             status[k] = outcome;
+            if (!summary_checked && std::filesystem::exists(plan.runs[k].output)) {
+              summary_checked = true;
+              try {
+                check_summary_names(plan, plan.runs[k].output);
+              } catch (const ConfigError& error) {
+                summary_error = error;
+                abandoned = true;
+              }
+            }
             const std::size_t finished_runs = ++done;
             progress.update(static_cast<double>(finished_runs) / static_cast<double>(todo.size()),
                             static_cast<double>(finished_runs),
@@ -223,6 +273,7 @@ int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
   });
   progress.finish();
   spdlog::set_level(level);
+  if (summary_error) throw *summary_error;
 
   std::vector<std::vector<double>> values(plan.runs.size(),
                                           std::vector<double>(plan.summary.size(), std::nan("")));

@@ -49,7 +49,7 @@ void build(Run& run) {
   if (c.text("system.boundary") != "periodic")
     throw ConfigError("brownian_edmd: system.boundary must be periodic (displacements are unwrapped through images)");
   run.initial_state([&](World& world) {
-    edmd::build_gas<D>(world, c, run.seed(), {}, [&run](double f) { run.setup_progress("elastic equilibration", f); });
+    edmd::build_gas<D>(world, c, run.seed(), {}, run.preparation("setup"));
     world.add_component<ImageCount<D>>().values.assign(world.size(), Eigen::Matrix<std::int32_t, D, 1>::Zero());
     const double energy = total_kinetic_energy<D>(world);
     run.derive("initial_kinetic_energy", energy);

@@ -52,7 +52,7 @@ double bed_radius(const Config& config) {
                    (static_cast<double>(config.integer("system.count")) * std::numbers::pi));
 }
 
-void build_crater(World& world, const Config& config) {
+void build_crater(World& world, const Config& config, const Preparation& preparation) {
   const auto count = static_cast<std::size_t>(config.integer("system.count"));
   const double r0 = bed_radius(config);
   const double big = config.real("projectile.radius_ratio") * r0;
@@ -79,7 +79,7 @@ void build_crater(World& world, const Config& config) {
                                       config.real("bed.melt_collisions"),
                                       "bed.melt_collisions, bed.packing_fraction or system.count");
   const auto bed = place_melted_lattice(count, r0, 1.0, height, config.real("bed.melt_collisions"),
-                                        static_cast<std::uint64_t>(config.integer("run.seed")));
+                                        static_cast<std::uint64_t>(config.integer("run.seed")), preparation);
   for (std::size_t i = 0; i < count; ++i) {
     mass[i] = config.real("system.mass");
     radius[i] = r0;
@@ -125,7 +125,7 @@ void build(Run& run) {
   const Config& c = run.config();
   const double r0 = bed_radius(c);
   run.initial_state([&](World& world) {
-    build_crater(world, c);
+    build_crater(world, c, run.preparation("setup"));
     run.derive("bed_radius", r0);
     run.derive("projectile_radius", c.real("projectile.radius_ratio") * r0);
     run.derive("initial_kinetic_energy", total_kinetic_energy<2>(world));

@@ -27,7 +27,7 @@ void build(Run& run) {
   const auto count = static_cast<double>(c.integer("system.count"));
   const Box<D> box = edmd::box_from<D>(c);
   run.initial_state([&](World& world) {
-    edmd::build_gas<D>(world, c, run.seed(), {}, [&run](double f) { run.setup_progress("elastic equilibration", f); });
+    edmd::build_gas<D>(world, c, run.seed(), {}, run.preparation("setup"));
     const double energy = total_kinetic_energy<D>(world);
     const double temperature0 = 2.0 / D * energy / count;
     const double eta = theory::packing_fraction<D>(count, c.real("system.radius"), box.volume());

@@ -101,7 +101,7 @@ void build_speed_study(Run& run, const std::vector<std::string>& species_names,
   auto initial = std::make_shared<SpeedSnapshotObserver<D>>(species_count);
   run.initial_state([&](World& world) {
     edmd::build_gas<D>(world, c, run.seed(), customize,
-                       [&run](double f) { run.setup_progress("elastic equilibration", f); });
+                       run.preparation("setup"));
     initial->run(world);
     run.derive("initial_kinetic_energy", total_kinetic_energy<D>(world));
   });

@@ -21,6 +21,7 @@
 #include "engine/config.hpp"
 #include "engine/memory_check.hpp"
 #include "engine/world.hpp"
+#include "systems/edmd/elastic_preparation.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 #include "systems/edmd/kinetic_theory.hpp"
 #include "systems/initial/initial_velocities.hpp"
@@ -134,11 +135,11 @@ void check_equilibration_length(const Box<D>& box, std::size_t count, double rad
 // Fills an empty world (of system.count entities) with the configured gas at
 // t = 0. `customize` may change masses, radii or add components (a mixture's
 // species) before particles are placed and given velocities.
-// `progress` hears the fraction of the equilibration done.
+// `preparation` hears how far placement and equilibration are and stops
+// them when the run is interrupted.
 template <int D>
 void build_gas(World& world, const Config& config, std::uint64_t seed,
-               const std::function<void(World&)>& customize = {},
-               const std::function<void(double)>& progress = {}) {
+               const std::function<void(World&)>& customize = {}, const Preparation& preparation = {}) {
   const auto count = static_cast<std::size_t>(config.integer("system.count"));
   // Impossible sizes fail here, before anything is allocated.
   if (!customize) {
@@ -163,7 +164,7 @@ void build_gas(World& world, const Config& config, std::uint64_t seed,
 
   PlacementRegion<D> everywhere;
   everywhere.upper = box.length;
-  position.values = place_randomly<D>(box, everywhere, radius.values, seed);
+  position.values = place_randomly<D>(box, everywhere, radius.values, seed, preparation.named("random placement"));
 
   const std::string kind = config.text("initial.velocity");
   if (kind == "maxwell_boltzmann")
@@ -182,16 +183,7 @@ void build_gas(World& world, const Config& config, std::uint64_t seed,
     EventDrivenGas<D> gas(world, elastic);
     gas.start(0.0);
     const auto total = static_cast<std::uint64_t>(std::ceil(collisions * static_cast<double>(count) / 2));
-    // In slices, to report progress: stopping at a collision count and going
-    // on is the same event sequence as one call.
-    constexpr std::uint64_t slices = 50;
-    StopReason reason = StopReason::collision_limit;
-    for (std::uint64_t k = 1; k <= slices && reason == StopReason::collision_limit; ++k) {
-      AdvanceLimits limits;
-      limits.max_pair_collisions = total * k / slices;
-      reason = gas.advance(std::numeric_limits<double>::infinity(), limits);
-      if (progress) progress(static_cast<double>(k) / slices);
-    }
+    const StopReason reason = run_elastic_preparation(gas, total, preparation.named("elastic equilibration"));
     gas.synchronize(gas.time());
     // The run proper starts its clock at zero: forget the preparation's collision times.
     if (world.has_component<LastCollisionTime>()) {

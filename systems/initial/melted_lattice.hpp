@@ -24,6 +24,7 @@
 #include "engine/rng.hpp"
 #include "engine/stream_ids.hpp"
 #include "engine/world.hpp"
+#include "systems/edmd/elastic_preparation.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 #include "systems/initial/initial_velocities.hpp"
 #include "systems/initial/random_placement.hpp"
@@ -35,7 +36,8 @@ namespace granflow {
 // `melt_collisions` collisions per particle. Positions are relative to the
 // region's lower left corner.
 inline std::vector<Vec<2>> place_melted_lattice(std::size_t count, double radius, double width, double height,
-                                                double melt_collisions, std::uint64_t seed) {
+                                                double melt_collisions, std::uint64_t seed,
+                                                const Preparation& preparation = {}) {
   const double inner_w = width - 2.0 * radius, inner_h = height - 2.0 * radius;
   const double fraction = static_cast<double>(count) * std::numbers::pi * radius * radius / (width * height);
   if (inner_w <= 0 || inner_h <= 0)
@@ -93,9 +95,8 @@ inline std::vector<Vec<2>> place_melted_lattice(std::size_t count, double radius
   }
   edmd::EventDrivenGas<2> gas(world, edmd::CollisionParameters{}, false);
   gas.start(0.0);
-  edmd::AdvanceLimits limits;
-  limits.max_pair_collisions = static_cast<std::uint64_t>(std::ceil(melt_collisions * static_cast<double>(count) / 2));
-  gas.advance(std::numeric_limits<double>::infinity(), limits);
+  edmd::run_elastic_preparation(gas, static_cast<std::uint64_t>(std::ceil(melt_collisions * static_cast<double>(count) / 2)),
+                                preparation.named("melting the bed"));
   gas.synchronize(gas.time());
   return world.component<Position<2>>().values;
 }

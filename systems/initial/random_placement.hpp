@@ -22,6 +22,7 @@
 #include "engine/stream_ids.hpp"
 
 #include "engine/input_error.hpp"
+#include "engine/preparation.hpp"
 
 namespace granflow {
 
@@ -53,6 +54,7 @@ constexpr double random_sequential_jamming_fraction() {
 template <int D>
 std::vector<Vec<D>> place_randomly(const Box<D>& box, const PlacementRegion<D>& region,
                                    const std::vector<double>& radii, std::uint64_t seed,
+                                   const Preparation& preparation = {},
                                    std::uint64_t max_attempts_per_particle = 20000) {
   const std::size_t count = radii.size();
   std::vector<Vec<D>> positions(count);
@@ -136,7 +138,13 @@ std::vector<Vec<D>> place_randomly(const Box<D>& box, const PlacementRegion<D>& 
     }
   };
 
+  // Near jamming the last particles take most of the attempts: report often.
+  const std::size_t report_every = std::max<std::size_t>(1, count / 1000);
   for (std::size_t i = 0; i < count; ++i) {
+    if (i % report_every == 0) {
+      preparation.stop_if_interrupted();
+      preparation.progress(static_cast<double>(i) / static_cast<double>(count));
+    }
     Philox random(stream::placement, seed, 0, i);
     bool placed = false;
     for (std::uint64_t attempt = 0; attempt < max_attempts_per_particle && !placed; ++attempt) {

@@ -4,7 +4,9 @@
 # same command with --resume then gives the same observables as an
 # uninterrupted run, bit for bit. One event-driven run (haff_cooling), one
 # ensemble of event-driven runs (brownian_edmd) and one SDE ensemble
-# interrupted inside its only run (langevin_msd, run.runs = 1).
+# interrupted inside its only run (langevin_msd, run.runs = 1). A run
+# interrupted while its initial state is prepared (a long elastic
+# equilibration) stops within seconds, exits 130 and leaves nothing behind.
 set -u
 granflow="$1"
 scenarios="$2"
@@ -46,6 +48,28 @@ DELAY=1.5 check brownian brownian_edmd.toml "msd msd_stderr time_averaged_msd er
   --set run.runs=4 --set run.t_stop=300 --set system.count=500 --set system.radius=0.03
 DELAY=1.5 check langevin langevin_msd.toml "msd time_averaged_msd ergodicity_breaking" \
   --set run.runs=1 --set run.t_stop=20 --set system.count=200000 --set msd.time_average_particles=200
+
+preparing() {  # preparing NAME TOML ARGS...: SIGINT during the preparation
+  local name="$1" toml="$2"; shift 2
+  "$granflow" run "$scenarios/$toml" "$@" -o "$work/$name.h5" 2> "$work/$name.log" &
+  local pid=$! started=$SECONDS
+  sleep "$(awk -v s="${GRANFLOW_SLOWDOWN:-1}" 'BEGIN { print 1.5 * s }')"
+  kill -INT $pid
+  wait $pid; local status=$? took=$((SECONDS - started))
+  if [[ $status -ne 130 ]] || ! grep -q "while preparing the initial state" "$work/$name.log"; then
+    echo "FAIL: $name interrupted during its preparation exited with $status"; cat "$work/$name.log"
+    failures=$((failures + 1))
+  elif (( took > 10 * ${GRANFLOW_SLOWDOWN:-1} )); then
+    echo "FAIL: $name took ${took} s to stop after SIGINT during its preparation"; failures=$((failures + 1))
+  elif ls "$work/$name".h5* > /dev/null 2>&1; then
+    echo "FAIL: $name left files after an interrupted preparation: $(ls "$work/$name".h5*)"; failures=$((failures + 1))
+  else echo "ok: $name stopped during its preparation"; fi
+}
+# Each would prepare for minutes: equilibrating 10^5 spheres for 2000 collisions
+# per particle, melting a bed of 10^5 disks for 2000.
+preparing equilibration haff_cooling.toml --set system.count=100000 --set system.radius=0.004 \
+  --set initial.equilibration_collisions=2000
+preparing melting crater_impact.toml --set system.count=100000 --set bed.melt_collisions=2000
 
 echo "$failures failure(s)"
 [[ $failures -eq 0 ]]

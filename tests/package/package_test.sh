@@ -5,13 +5,16 @@
 set -eu
 build="$1"
 source="$2"
+cxx_flags="${3:-}"
+linker_flags="${4:-}"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cmake --install "$build" --prefix "$work/prefix" > "$work/install.log"
 generator=()
 command -v ninja > /dev/null && generator=(-G Ninja)
 cmake -S "$source/docs/examples/sonine" -B "$work/example" "${generator[@]}" \
-  -DCMAKE_PREFIX_PATH="$work/prefix" > "$work/configure.log"
+  -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_CXX_FLAGS="$cxx_flags" -DCMAKE_EXE_LINKER_FLAGS="$linker_flags" \
+  > "$work/configure.log"
 cmake --build "$work/example" > "$work/build.log"
 cd "$work"
 "$work/example/sonine_cooling" run "$source/docs/examples/sonine/sonine.toml" --set collision.restitution=0.8 \
