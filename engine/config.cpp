@@ -268,13 +268,7 @@ Config::Config(const ConfigSchema& schema) : schema_(&schema) {
 
 Config Config::from_toml_text(const ConfigSchema& schema, const std::string& text, const std::string& origin) {
   Config config(schema);
-  toml::table table;
-  require_ascii_outside_strings(text, origin);
-  try {
-    table = toml::parse(text, origin);
-  } catch (const toml::parse_error& error) {
-    throw toml_parse_failure(origin, error);
-  }
+  const toml::table table = parse_toml_text(text, origin, origin);
   std::vector<std::pair<std::string, const toml::node*>> leaves;
   collect_toml_leaves(table, "", leaves);
   for (const auto& [key, node] : leaves) {
@@ -476,8 +470,13 @@ std::vector<std::string> Config::resume_conflicts(const Config& other) const {
 std::string scenario_name_of(const std::string& path) {
   if (!std::ifstream(path)) throw ConfigError(fmt::format("cannot open configuration file '{}'", path));
   const toml::table table = parse_toml_file(path, path);
-  const auto name = table["scenario"].value<std::string>();
-  if (!name) throw ConfigError(fmt::format("configuration file '{}' has no top-level key 'scenario'", path));
+  if (!table.contains("scenario"))
+    throw ConfigError(fmt::format("configuration file '{}' has no top-level key 'scenario'", path));
+  const auto name = table["scenario"].value_exact<std::string>();
+  if (!name)
+    throw ConfigError(fmt::format("configuration file '{}': 'scenario' must be a scenario name in quotes (see "
+                                  "`granflow list`)",
+                                  path));
   return *name;
 }
 

@@ -67,17 +67,23 @@ inline void require_ascii_outside_strings(const std::string& text, const std::st
   }
 }
 
-// `what` names the file in messages, e.g. "sweep file x.toml".
-inline toml::table parse_toml_file(const std::string& path, const std::string& what) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  require_ascii_outside_strings(buffer.str(), what);
+// `what` names the text in messages, e.g. "sweep file x.toml"; `source` is
+// the path toml++ puts into its positions.
+inline toml::table parse_toml_text(const std::string& text, const std::string& source, const std::string& what) {
+  require_ascii_outside_strings(text, what);
   try {
-    return toml::parse(buffer.str(), path);
+    return toml::parse(text, source);
   } catch (const toml::parse_error& error) {
     throw toml_parse_failure(what, error);
   }
+}
+
+inline toml::table parse_toml_file(const std::string& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(fmt::format("cannot read {}", what));
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return parse_toml_text(buffer.str(), path, what);
 }
 
 inline void collect_toml_leaves(const toml::table& table, const std::string& prefix,

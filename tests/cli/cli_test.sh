@@ -37,6 +37,8 @@ expect_error "must exceed two particle diameters" \
 expect_error "cannot open configuration file" run "$work/missing.toml"
 printf 'scenario = "no_such_thing"\n' > "$work/unknown.toml"
 expect_error "unknown scenario 'no_such_thing'" run "$work/unknown.toml"
+printf 'scenario = 3\n' > "$work/number.toml"
+expect_error "'scenario' must be a scenario name in quotes" run "$work/number.toml"
 printf 'scenario = "haff_cooling"\n[system\ncount = 3\n' > "$work/broken.toml"
 expect_error "cannot parse" run "$work/broken.toml"
 printf 'scenario = "haff_cooling"\n[system]\ncount = 1.5\n' > "$work/float.toml"

@@ -84,6 +84,16 @@ TEST(SweepPlan, ErrorsNameTheProblem) {
   expect_error("repeats = 2\n[grid]\nrun.seed = [1, 2]\n", "run.seed is swept explicitly");
   expect_error("summary = \"temperature\"\n", "summary must be an array");
   expect_error("points = [1, 2]\n", "[[points]] entries must be tables");
+  expect_error("grid = 3\n", "[grid] must be a table");
+  expect_error("output = 3\n", "output must be a directory name");
+  // A grid of six lists of 10 values would be 10^6 points: refused before any is built.
+  std::string wide = "[grid]\n";
+  for (const char* key : {"system.count", "system.radius", "system.mass", "collision.restitution", "run.seed",
+                          "initial.speed"})
+    wide += std::string(key) + " = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10]\n";
+  expect_error(wide, "[grid] spans 1e+06 parameter points; at most 100000 are allowed");
+  expect_error("repeats = 100000\n[grid]\nsystem.count = [100, 200, 300, 400, 500, 600, 700, 800, 900, 1000, 1100]\n",
+               "runs; at most 1000000 are allowed");
 }
 
 }  // namespace

@@ -1,9 +1,11 @@
-// libFuzzer target for the configuration loader: the input is a TOML file
-// checked against a schema with every kind of key (integers, reals with and
-// without infinity, booleans, choices, strings, lists of numbers, lists of
-// tables), and its first line doubles as a --set assignment. Any input must
-// end in a configuration or a ConfigError; everything else (a crash, another
-// exception, a sanitizer report) is a finding.
+// libFuzzer target for the configuration and sweep-file loaders: the input
+// is a TOML file checked against a schema with every kind of key (integers,
+// reals with and without infinity, booleans, choices, strings, lists of
+// numbers, lists of tables), its first line doubles as a --set assignment,
+// and the same text is read as a sweep file whose fixed keys and parameter
+// points are applied to that schema. Any input must end in a result or a
+// ConfigError; everything else (a crash, another exception, a sanitizer
+// report, a run out of memory) is a finding.
 //   tests/fuzz/run_config_fuzz.sh SECONDS
 
 #include <cstddef>
@@ -11,6 +13,7 @@
 #include <string>
 
 #include "engine/config.hpp"
+#include "engine/sweep_file.hpp"
 
 namespace {
 
@@ -46,6 +49,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     granflow::Config config(schema());
     config.apply_override(text.substr(0, text.find('\n')));
     granflow::Config::from_toml_text(schema(), config.to_toml(), "round trip");
+  } catch (const granflow::ConfigError&) {
+  }
+  try {
+    const granflow::SweepFile sweep = granflow::parse_sweep_text(text, "fuzz input");
+    granflow::Config base(schema());
+    for (const auto& [key, value] : sweep.fixed) base.apply_override(key + "=" + value);
+    for (const auto& point : sweep.points) {
+      granflow::Config config = base;
+      for (const auto& [key, value] : point) config.apply_override(key + "=" + value);
+    }
   } catch (const granflow::ConfigError&) {
   }
   return 0;
