@@ -7,6 +7,7 @@
 
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <typeindex>
 #include <vector>
 
@@ -56,8 +57,11 @@ class Access {
     reads_.push_back(access_key_of<ObservableStore>(name));
     return *this;
   }
-  Access& writes_observable(const std::string& name) {
+  // `unit`: the observable's unit in H5MD notation (engine/units.hpp), put
+  // into the result file; empty where another system already declared it.
+  Access& writes_observable(const std::string& name, const std::string& unit = "") {
     writes_.push_back(access_key_of<ObservableStore>(name));
+    if (!unit.empty()) units_.emplace_back(name, unit);
     return *this;
   }
   Access& writes_every_component() {
@@ -67,6 +71,8 @@ class Access {
 
   const std::vector<AccessKey>& read_keys() const { return reads_; }
   const std::vector<AccessKey>& write_keys() const { return writes_; }
+  // Units of the observables this access writes, where it gives them.
+  const std::vector<std::pair<std::string, std::string>>& observable_units() const { return units_; }
   // Names of the observables this access writes (the Runner creates their slots).
   std::vector<std::string> written_observables() const {
     std::vector<std::string> out;
@@ -78,6 +84,7 @@ class Access {
  private:
   std::vector<AccessKey> reads_;
   std::vector<AccessKey> writes_;
+  std::vector<std::pair<std::string, std::string>> units_;
 };
 
 // True when two systems may not run at the same time.

@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "engine/file_seal.hpp"
 #include "engine/h5md_file.hpp"
 #include "engine/h5md_reader.hpp"
 
@@ -48,6 +49,8 @@ void write_checkpoint(const std::string& path, const std::string& scenario, cons
 
 CheckpointContents read_checkpoint(const std::string& path) {
   try {
+    if (const SealState seal = check_seal(path); seal != SealState::matches)
+      throw H5Error("the file " + describe(seal));
     const H5mdReader reader(path);
     CheckpointContents out;
     out.configuration = reader.string_dataset("/parameters/toml");

@@ -19,6 +19,8 @@
 #include "engine/sweep_plan.hpp"
 #include "engine/sweep_runner.hpp"
 #include "engine/system_catalogue.hpp"
+#include "engine/file_seal.hpp"
+#include "engine/provenance.hpp"
 #include "engine/version.hpp"
 
 namespace granflow {
@@ -73,12 +75,25 @@ void describe_result_file(const std::string& path) {
       fmt::print("  stop: {}\n", reader.string_attribute("/observables", "stop_reason"));
     } catch (const H5Error&) {
     }
+  // Scalar results, derived parameters and provenance live in attributes.
+  for (const auto& [group, title] : {std::pair{"/observables", "results"}, {"/parameters/derived", "derived parameters"},
+                                     {"/provenance", "provenance"}}) {
+    if (!reader.exists(group)) continue;
+    const auto names = reader.attribute_names(group);
+    if (names.empty()) continue;
+    fmt::print("{} ({} attributes):\n", title, group);
+    for (const auto& name : names) fmt::print("  {:<40} {}\n", name, reader.attribute_text(group, name));
+  }
   fmt::print("datasets:\n{}", reader.describe());
   if (reader.exists("/parameters/toml")) fmt::print("configuration:\n{}", reader.string_dataset("/parameters/toml"));
 }
 
 // A file that cannot be read as a result file is bad input, whatever is wrong with it.
-void info_command(const std::string& path) {
+void info_command(const std::string& path, bool edited) {
+  if (const SealState seal = check_seal(path); seal == SealState::broken && !edited)
+    throw InputError(fmt::format("'{}' {} (its seal does not match its contents); if you edited it on purpose, "
+                                 "run `granflow info --edited {}`",
+                                 path, describe(seal), path));
   try {
     describe_result_file(path);
   } catch (const H5Error& error) {
@@ -90,6 +105,7 @@ void info_command(const std::string& path) {
 
 int main(int argc, char** argv) {
   link_builtin_scenarios();
+  record_command_line(argc, argv);
   // Messages go to standard error; standard output carries only what was asked for (tables, lists).
   if (!spdlog::get("granflow")) spdlog::set_default_logger(spdlog::stderr_color_mt("granflow"));
   spdlog::set_pattern("[%H:%M:%S] %^%l%$: %v");
@@ -127,6 +143,8 @@ int main(int argc, char** argv) {
   std::string info_path;
   auto* info = app.add_subcommand("info", "describe a result file");
   info->add_option("file", info_path, "H5MD result file")->required();
+  bool edited = false;
+  info->add_flag("--edited", edited, "the file was changed after granflow wrote it, on purpose: read it anyway");
   std::string keys_name;
   auto* keys = app.add_subcommand("keys", "list a scenario's configuration keys with defaults and ranges");
   keys->add_option("scenario", keys_name, "scenario name")->required();
@@ -150,7 +168,7 @@ int main(int argc, char** argv) {
       return run_sweep(read_sweep_plan(sweep_file, sweep_output), sweep_options);
     }
     if (*list) list_command();
-    if (*info) info_command(info_path);
+    if (*info) info_command(info_path, edited);
     if (*keys) keys_command(keys_name);
     return 0;
   } catch (const InputError& error) {

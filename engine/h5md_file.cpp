@@ -5,20 +5,29 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <memory>
 
 #include "engine/config.hpp"
+#include "engine/file_seal.hpp"
 #include "engine/input_error.hpp"
+#include "engine/provenance.hpp"
+#include "engine/units.hpp"
+#include "engine/version.hpp"
 
 namespace granflow {
 
 namespace {
 
+// Chunks of about 64 KiB: a series of scalars keeps 64 frames per chunk, a
+// frame of 1000 particles' positions two, larger frames one.
 constexpr hsize_t frames_per_chunk = 64;
+constexpr hsize_t values_per_chunk = 8192;
 
 H5Handle string_type(std::size_t fixed_length = 0) {
   H5Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "copy string type");
@@ -89,8 +98,7 @@ H5Handle create_extendible(hid_t parent, const std::string& name, hid_t type, co
     max_dims.push_back(extent);
     inner_count *= extent;
   }
-  // Large frames (whole particle arrays) go one frame per chunk.
-  if (inner_count > 4096) chunk[0] = 1;
+  chunk[0] = std::clamp<hsize_t>(values_per_chunk / std::max<hsize_t>(inner_count, 1), 1, frames_per_chunk);
   for (hsize_t extent : inner) chunk.push_back(extent);
   H5Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), max_dims.data()), H5Sclose,
                  "create extendible space for " + name);
@@ -132,7 +140,7 @@ struct H5mdFile::Series {
 // first run's file. The lock goes with the process, so a killed run leaves
 // no stale claim. HDF5's own locking is off, as this lock replaces it.
 H5mdFile::H5mdFile(const std::string& path, const std::string& scenario)
-    : path_(path), partial_path_(path + ".partial") {
+    : path_(path), partial_path_(path + ".partial"), started_(std::chrono::steady_clock::now()) {
   h5_quiet();
   lock_ = ::open(partial_path_.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
   if (lock_ < 0)
@@ -145,8 +153,10 @@ H5mdFile::H5mdFile(const std::string& path, const std::string& scenario)
   }
   H5Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "create file access list");
   h5_check(H5Pset_file_locking(access, false, true), "disable HDF5 file locking");
+  H5Handle creation(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "create file creation list");
+  h5_check(H5Pset_userblock(creation, seal_block_bytes), "reserve the seal block");
   try {
-    file_ = H5Handle(H5Fcreate(partial_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access), H5Fclose,
+    file_ = H5Handle(H5Fcreate(partial_path_.c_str(), H5F_ACC_TRUNC, creation, access), H5Fclose,
                      "create output file '" + partial_path_ + "'");
   } catch (...) {
     std::filesystem::remove(partial_path_);
@@ -155,12 +165,23 @@ H5mdFile::H5mdFile(const std::string& path, const std::string& scenario)
   }
   const hid_t h5md = group("/h5md");
   write_numeric_attribute<int>(h5md, "version", H5T_NATIVE_INT, {1, 1});
+  const BuildInfo& build = build_info();
   const hid_t creator = group("/h5md/creator");
   write_string_attribute(creator, "name", "granflow");
-  write_string_attribute(creator, "version", "0.1.0");
-  const hid_t author = group("/h5md/author");
-  write_string_attribute(author, "name", "granflow user");
+  write_string_attribute(creator, "version", std::string(build.version) + " (" + build.revision + ")");
+  write_string_attribute(group("/h5md/author"), "name", user_name());
   write_string_attribute(group("/parameters"), "scenario", scenario);
+  const hid_t provenance = group("/provenance");
+  write_string_attribute(provenance, "version", build.version);
+  write_string_attribute(provenance, "revision", build.revision);
+  write_string_attribute(provenance, "build_type", build.build_type);
+  write_string_attribute(provenance, "build_options", build.options);
+  write_string_attribute(provenance, "compiler", build.compiler);
+  write_string_attribute(provenance, "compiler_flags", build.flags);
+  write_string_attribute(provenance, "host", host_name());
+  write_string_attribute(provenance, "command_line", recorded_command_line());
+  write_numeric_attribute<int>(provenance, "threads", H5T_NATIVE_INT, {thread_limit()});
+  write_string_attribute(provenance, "started_utc", utc_timestamp());
 }
 
 // A file abandoned before finish() (the run threw) is deleted: a .partial
@@ -214,19 +235,39 @@ void H5mdFile::write_box(const std::vector<double>& edges, const std::vector<std
   const hid_t box = group("/particles/all/box");
   write_numeric_attribute<int>(box, "dimension", H5T_NATIVE_INT, {static_cast<int>(edges.size())});
   write_string_array_attribute(box, "boundary", boundary);
-  write_dataset(box, "edges", H5T_NATIVE_DOUBLE, edges.data(), {edges.size()});
+  const auto positions = series_.find("/particles/all/position");
+  if (positions == series_.end() || positions->second->frames == 0) {
+    write_dataset(box, "edges", H5T_NATIVE_DOUBLE, edges.data(), {edges.size()});
+    return;
+  }
+  const Series& frames = *positions->second;
+  const hid_t element = group("/particles/all/box/edges");
+  h5_check(H5Lcreate_hard(frames.step, ".", element, "step", H5P_DEFAULT, H5P_DEFAULT), "link box/edges/step");
+  h5_check(H5Lcreate_hard(frames.time, ".", element, "time", H5P_DEFAULT, H5P_DEFAULT), "link box/edges/time");
+  std::vector<double> repeated;
+  for (hsize_t k = 0; k < frames.frames; ++k) repeated.insert(repeated.end(), edges.begin(), edges.end());
+  write_dataset(element, "value", H5T_NATIVE_DOUBLE, repeated.data(), {frames.frames, edges.size()});
 }
 
 void H5mdFile::write_particle_constant(const std::string& name, const std::vector<double>& data,
-                                       std::size_t components) {
+                                       std::size_t components, const std::string& unit) {
   const hid_t particles = group("/particles/all");
   std::vector<hsize_t> shape{data.size() / components};
   if (components > 1) shape.push_back(components);
   write_dataset(particles, name, H5T_NATIVE_DOUBLE, data.data(), shape);
+  if (!unit.empty()) {
+    H5Handle dataset(H5Dopen2(particles, name.c_str(), H5P_DEFAULT), H5Dclose, "open " + name);
+    write_string_attribute(dataset, "unit", unit);
+  }
+}
+
+void H5mdFile::write_particle_constant(const std::string& name, const std::vector<std::int32_t>& data) {
+  write_dataset(group("/particles/all"), name, H5T_NATIVE_INT32, data.data(), {data.size()});
 }
 
 H5mdFile::Series& H5mdFile::series(const std::string& group_path, std::size_t value_count,
-                                   const std::vector<hsize_t>& value_shape) {
+                                   const std::vector<hsize_t>& value_shape, hid_t value_type, const std::string& unit,
+                                   const std::string& time_unit) {
   auto it = series_.find(group_path);
   if (it != series_.end()) {
     hsize_t expected = 1;
@@ -239,41 +280,64 @@ H5mdFile::Series& H5mdFile::series(const std::string& group_path, std::size_t va
   s->shape = value_shape;
   s->step = create_extendible(g, "step", H5T_NATIVE_INT64, {});
   s->time = create_extendible(g, "time", H5T_NATIVE_DOUBLE, {});
-  s->value = create_extendible(g, "value", H5T_NATIVE_DOUBLE, value_shape);
+  s->value = create_extendible(g, "value", value_type, value_shape);
+  if (!unit.empty()) write_string_attribute(s->value, "unit", unit);
+  if (!time_unit.empty()) write_string_attribute(s->time, "unit", time_unit);
   return *series_.emplace(group_path, std::move(s)).first->second;
 }
 
+// MDAnalysis refuses a unit string it does not know on the particles'
+// position, velocity and time, even when asked not to convert units, and
+// H5MD has no notation for reduced units it would know: those carry none
+// (docs/units.md gives them).
 void H5mdFile::append_particle_frame(const std::string& name, std::int64_t step, double time,
                                      const std::vector<double>& data, std::size_t components) {
   std::vector<hsize_t> shape{data.size() / components};
   if (components > 1) shape.push_back(components);
-  Series& s = series("/particles/all/" + name, data.size(), shape);
+  Series& s = series("/particles/all/" + name, data.size(), shape, H5T_NATIVE_DOUBLE, "", "");
   append_frame(s.step, H5T_NATIVE_INT64, s.frames, &step, {}, name + "/step");
   append_frame(s.time, H5T_NATIVE_DOUBLE, s.frames, &time, {}, name + "/time");
   append_frame(s.value, H5T_NATIVE_DOUBLE, s.frames, data.data(), s.shape, name + "/value");
   ++s.frames;
 }
 
-void H5mdFile::append_observable(const std::string& name, std::int64_t step, double time, double value) {
-  Series& s = series("/observables/" + name, 1, {});
+void H5mdFile::append_particle_frame(const std::string& name, std::int64_t step, double time,
+                                     const std::vector<std::int32_t>& data, std::size_t components) {
+  std::vector<hsize_t> shape{data.size() / components};
+  if (components > 1) shape.push_back(components);
+  Series& s = series("/particles/all/" + name, data.size(), shape, H5T_NATIVE_INT32, "", "");
   append_frame(s.step, H5T_NATIVE_INT64, s.frames, &step, {}, name + "/step");
   append_frame(s.time, H5T_NATIVE_DOUBLE, s.frames, &time, {}, name + "/time");
-  append_frame(s.value, H5T_NATIVE_DOUBLE, s.frames, &value, {}, name + "/value");
+  append_frame(s.value, H5T_NATIVE_INT32, s.frames, data.data(), s.shape, name + "/value");
   ++s.frames;
+}
+
+void H5mdFile::append_observable(const std::string& name, std::int64_t step, double time, double value) {
+  append_observable_frame(name, step, time, &value, 1, {});
 }
 
 void H5mdFile::append_observable(const std::string& name, std::int64_t step, double time,
                                  const std::vector<double>& value) {
-  Series& s = series("/observables/" + name, value.size(), {value.size()});
+  append_observable_frame(name, step, time, value.data(), value.size(), {value.size()});
+}
+
+void H5mdFile::append_observable_frame(const std::string& name, std::int64_t step, double time, const double* value,
+                                       std::size_t count, const std::vector<hsize_t>& shape) {
+  const auto unit = units_.find(name);
+  Series& s = series("/observables/" + name, count, shape, H5T_NATIVE_DOUBLE,
+                     unit == units_.end() ? "" : unit->second, unit::time);
   append_frame(s.step, H5T_NATIVE_INT64, s.frames, &step, {}, name + "/step");
   append_frame(s.time, H5T_NATIVE_DOUBLE, s.frames, &time, {}, name + "/time");
-  append_frame(s.value, H5T_NATIVE_DOUBLE, s.frames, value.data(), s.shape, name + "/value");
+  append_frame(s.value, H5T_NATIVE_DOUBLE, s.frames, value, s.shape, name + "/value");
   ++s.frames;
 }
 
-void H5mdFile::write_observable_constant(const std::string& name, const std::vector<double>& value) {
+void H5mdFile::write_observable_constant(const std::string& name, const std::vector<double>& value,
+                                         const std::string& unit) {
   const hid_t observables = group("/observables");
   write_dataset(observables, name, H5T_NATIVE_DOUBLE, value.data(), {value.size()});
+  H5Handle dataset(H5Dopen2(observables, name.c_str(), H5P_DEFAULT), H5Dclose, "open " + name);
+  write_string_attribute(dataset, "unit", unit);
 }
 
 void H5mdFile::write_profile(const std::vector<ProfileEntry>& entries) {
@@ -314,9 +378,15 @@ void H5mdFile::write_attribute(const std::string& path, const std::string& name,
 
 void H5mdFile::finish() {
   if (finished_) return;
+  const hid_t provenance = group("/provenance");
+  write_string_attribute(provenance, "finished_utc", utc_timestamp());
+  write_numeric_attribute<double>(
+      provenance, "wall_seconds", H5T_NATIVE_DOUBLE,
+      {std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count()});
   series_.clear();
   groups_.clear();
   file_.close("close output file '" + partial_path_ + "'");
+  seal_file(partial_path_);
   std::error_code error;
   std::filesystem::rename(partial_path_, path_, error);
   if (error) throw H5Error("cannot move '" + partial_path_ + "' to '" + path_ + "': " + error.message());

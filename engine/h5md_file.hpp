@@ -3,6 +3,7 @@
 // renamed to <path> only by finish(), so an interrupted run never leaves a
 // truncated file under the name a user expects to be complete.
 
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -26,17 +27,27 @@ class H5mdFile {
   const std::string& path() const { return path_; }
 
   void write_parameters(const Config& config);
-  // boundary per axis: "periodic" or "none" (H5MD's words)
+  // boundary per axis: "periodic" or "none" (H5MD's words). Where particle
+  // positions are time-dependent the box is too (one entry per position
+  // frame, sharing its step and time), as H5MD readers such as MDAnalysis
+  // expect; call it after the last frame.
   void write_box(const std::vector<double>& edges, const std::vector<std::string>& boundary);
   // Time-independent per-particle data, shape [count, components] (components 1 gives [count]).
-  void write_particle_constant(const std::string& name, const std::vector<double>& data, std::size_t components);
+  void write_particle_constant(const std::string& name, const std::vector<double>& data, std::size_t components,
+                               const std::string& unit);
+  void write_particle_constant(const std::string& name, const std::vector<std::int32_t>& data);
   // One frame of a time-dependent per-particle element, shape [frames, count, components].
   void append_particle_frame(const std::string& name, std::int64_t step, double time,
                              const std::vector<double>& data, std::size_t components);
+  void append_particle_frame(const std::string& name, std::int64_t step, double time,
+                             const std::vector<std::int32_t>& data, std::size_t components);
+  // The unit of an observable (an H5MD unit string, engine/units.hpp), put on
+  // its value (and its time in T) when the series is created.
+  void declare_unit(const std::string& observable, const std::string& unit) { units_[observable] = unit; }
   void append_observable(const std::string& name, std::int64_t step, double time, double value);
   void append_observable(const std::string& name, std::int64_t step, double time, const std::vector<double>& value);
   // A fixed, time-independent observable (a histogram's bin edges, a fitted constant).
-  void write_observable_constant(const std::string& name, const std::vector<double>& value);
+  void write_observable_constant(const std::string& name, const std::vector<double>& value, const std::string& unit);
   void write_profile(const std::vector<ProfileEntry>& entries);
   // A plain 1D dataset at group_path/name (for checkpoint state).
   void write_array(const std::string& group_path, const std::string& name, const std::vector<double>& values);
@@ -49,13 +60,18 @@ class H5mdFile {
  private:
   hid_t group(const std::string& path);
   struct Series;
-  Series& series(const std::string& group_path, std::size_t value_count, const std::vector<hsize_t>& value_shape);
+  void append_observable_frame(const std::string& name, std::int64_t step, double time, const double* value,
+                               std::size_t count, const std::vector<hsize_t>& shape);
+  Series& series(const std::string& group_path, std::size_t value_count, const std::vector<hsize_t>& value_shape,
+                 hid_t value_type, const std::string& unit, const std::string& time_unit);
 
   std::string path_;
   std::string partial_path_;
   H5Handle file_;
   std::map<std::string, H5Handle> groups_;
   std::map<std::string, std::unique_ptr<Series>> series_;
+  std::map<std::string, std::string> units_;
+  std::chrono::steady_clock::time_point started_;
   bool finished_ = false;
   int lock_ = -1;  // descriptor holding the exclusive lock on the .partial
 };

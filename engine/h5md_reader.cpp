@@ -76,7 +76,14 @@ herr_t describe_object(hid_t location, const char* name, const H5O_info_t* info,
     case H5T_STRING: kind = "string"; break;
     default: break;
   }
-  state->text += fmt::format("  /{:<48} {:<16} {}\n", name, shape_text, kind);
+  std::string unit;
+  if (H5Aexists(dataset, "unit") > 0) {
+    try {
+      unit = "  [" + read_string_attribute_of(dataset, "unit", std::string(name) + "@unit") + "]";
+    } catch (const H5Error&) {
+    }
+  }
+  state->text += fmt::format("  /{:<48} {:<16} {}{}\n", name, shape_text, kind, unit);
   return 0;
 }
 
@@ -180,6 +187,28 @@ std::vector<std::string> H5mdReader::attribute_names(const std::string& object_p
   h5_check(H5Aiterate2(object, H5_INDEX_NAME, H5_ITER_INC, nullptr, collect, &names),
            "list attributes of " + object_path);
   return names;
+}
+
+std::string H5mdReader::attribute_text(const std::string& object_path, const std::string& name) const {
+  const std::string what = object_path + "@" + name;
+  H5Handle object(H5Oopen(file_, object_path.c_str(), H5P_DEFAULT), H5Oclose, "open " + object_path);
+  H5Handle attribute(H5Aopen(object, name.c_str(), H5P_DEFAULT), H5Aclose, "open attribute " + what);
+  H5Handle type(H5Aget_type(attribute), H5Tclose, "get type of " + what);
+  const H5T_class_t kind = H5Tget_class(type);
+  if (kind == H5T_STRING) {
+    H5Handle space(H5Aget_space(attribute), H5Sclose, "get space of " + what);
+    if (H5Sget_simple_extent_npoints(space) != 1) return "(list of strings)";
+    return read_string_attribute_of(object, name, what);
+  }
+  if (kind != H5T_FLOAT && kind != H5T_INTEGER) return "(not a number or text)";
+  H5Handle space(H5Aget_space(attribute), H5Sclose, "get space of " + what);
+  const hssize_t points = H5Sget_simple_extent_npoints(space);
+  if (points < 1 || points > 16) return fmt::format("({} values)", points);
+  std::vector<double> values(static_cast<std::size_t>(points));
+  h5_check(H5Aread(attribute, H5T_NATIVE_DOUBLE, values.data()), "read attribute " + what);
+  std::string text;
+  for (std::size_t k = 0; k < values.size(); ++k) text += fmt::format("{}{:.10g}", k ? ", " : "", values[k]);
+  return text;
 }
 
 std::string H5mdReader::describe() const {

@@ -31,6 +31,9 @@ class H5mdReader {
   std::vector<std::string> members(const std::string& group_path) const;
   std::vector<std::string> attribute_names(const std::string& object_path) const;
 
+  // An attribute as text: numbers (up to 16 of them) or a string.
+  std::string attribute_text(const std::string& object_path, const std::string& name) const;
+
   // One line per dataset: path, shape and type, in file order.
   std::string describe() const;
 

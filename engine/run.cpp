@@ -60,12 +60,16 @@ void Run::add_trigger(const TriggerPtr& trigger) {
 void Run::prepare() {
   std::vector<std::string> observables;
   auto& store = world_.resource<ObservableStore>();
-  for (const auto& system : observers_.systems())
-    for (const auto& name : system->access().written_observables())
+  for (const auto& system : observers_.systems()) {
+    const Access access = system->access();
+    for (const auto& name : access.written_observables())
       if (!store.declared(name)) {
         store.declare(name);
         observables.push_back(name);
       }
+    if (file_)
+      for (const auto& [name, unit] : access.observable_units()) file_->declare_unit(name, unit);
+  }
   recorder_ = &observers_.emplace<ObservableRecorder>(observables);
   if (!resume_) return;
   const auto clock = resume_->find("clock");

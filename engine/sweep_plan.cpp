@@ -77,7 +77,7 @@ SweepPlan read_sweep_plan(const std::string& sweep_file, const std::string& outp
     for (std::size_t r = 0; r < plan.repeats; ++r) {
       SweepRun run{p, r, repeat_seed(base_seed, r), config, {}};
       if (plan.repeats > 1) run.config.set("run.seed", run.seed);
-      run.output = plan.directory / fmt::format("p{:0{}}_r{:02}.h5", p, digits, r);
+      run.output = plan.directory / fmt::format("p{:0{}}_r{:02}.h5md", p, digits, r);
       plan.runs.push_back(std::move(run));
     }
   }

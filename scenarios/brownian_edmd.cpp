@@ -70,6 +70,7 @@ void build(Run& run) {
 
 void write(const EdmdMsdResult& r, H5mdFile& file) {
   const auto diffusivity = diffusivity_from_msd(r.time, r.msd, 3);
+  declare_msd_series_units(file);
   for (std::size_t k = 0; k < r.time.size(); ++k) {
     const auto step = static_cast<std::int64_t>(k);
     file.append_observable("msd", step, r.time[k], r.msd[k]);
@@ -108,7 +109,7 @@ void declare_keys(ConfigSchema& s) {
 const Scenario brownian_edmd{
     .name = "brownian_edmd",
     .summary = "MSD, diffusivity and time-averaged MSD of the event-driven gas against Enskog theory",
-    .default_output = "brownian_edmd.h5",
+    .default_output = "brownian_edmd.h5md",
     .keys = declare_keys,
     .build = build,
     .members = ensemble_members,

@@ -164,7 +164,7 @@ void build(Run& run) {
 GRANFLOW_REGISTER_SCENARIO(crater_impact, Scenario{
   .name = "crater_impact",
   .summary = "a heavy projectile hits a resting bed of disks; crater size and penetration (EDMD)",
-  .default_output = "crater.h5",
+  .default_output = "crater.h5md",
   .keys = declare_keys,
   .build = build,
 })

@@ -68,7 +68,7 @@ void build(Run& run) {
 GRANFLOW_REGISTER_SCENARIO(haff_cooling, Scenario{
   .name = "haff_cooling",
   .summary = "homogeneous cooling of inelastic hard spheres/disks against Haff's law (EDMD)",
-  .default_output = "haff.h5",
+  .default_output = "haff.h5md",
   .keys = [](ConfigSchema& s) {
     edmd::declare_gas_keys(s, {});
     declare_output_time_keys(s, 0.01, 20);

@@ -33,7 +33,7 @@ std::function<void(World&)> mixture_species(const Config& config) {
 GRANFLOW_REGISTER_SCENARIO(mixture, Scenario{
   .name = "mixture",
   .summary = "two-mass gas: equipartition at xi = 1 and its breakdown at xi < 1 (EDMD)",
-  .default_output = "mixture.h5",
+  .default_output = "mixture.h5md",
   .keys = [](ConfigSchema& s) {
     declare_speed_study_keys(s, SamplingDefaults{10.0, 5, 2.0, 0.002});
     s.real("mixture.mass_ratio", 4.0, 0.0, std::numeric_limits<double>::infinity(),

@@ -14,6 +14,7 @@
 #include "engine/run.hpp"
 #include "engine/runner.hpp"
 #include "engine/scenario.hpp"
+#include "engine/units.hpp"
 #include "systems/edmd/event_driven_run.hpp"
 
 namespace granflow::scenarios {
@@ -33,7 +34,7 @@ namespace {
 class ScatteringAngleObserver : public System {
  public:
   std::string name() const override { return "observe_scattering_angle"; }
-  Access access() const override { return Access{}.reads<Velocity<2>>().writes_observable("scattering_angle"); }
+  Access access() const override { return Access{}.reads<Velocity<2>>().writes_observable("scattering_angle", unit::angle); }
   void run(World& world) override {
     const Vec<2> after = world.component<Velocity<2>>()[1];
     world.resource<ObservableStore>().set("scattering_angle", std::atan2(std::abs(after.y()), after.x()));
@@ -94,9 +95,9 @@ void reduce(const EnsembleResults& results, H5mdFile& file) {
     analytic.push_back(p.analytic);
     worst = std::max(worst, std::abs(p.angle - p.analytic));
   }
-  file.write_observable_constant("impact_parameter_ratio", ratio);
-  file.write_observable_constant("scattering_angle", angle);
-  file.write_observable_constant("scattering_angle_analytic", analytic);
+  file.write_observable_constant("impact_parameter_ratio", ratio, unit::none);
+  file.write_observable_constant("scattering_angle", angle, unit::angle);
+  file.write_observable_constant("scattering_angle_analytic", analytic, unit::angle);
   file.write_attribute("/observables", "largest_deviation_rad", worst);
   file.write_attribute("/observables", "stop_reason", "scan complete");
   spdlog::info("{} impact parameters, largest deviation from the analytic angle {:.3g} rad", ratio.size(), worst);
@@ -117,7 +118,7 @@ void declare_keys(ConfigSchema& s) {
 const Scenario scattering{
     .name = "scattering",
     .summary = "scattering angle of a light disk off a heavy one against the impact parameter (EDMD)",
-    .default_output = "scattering.h5",
+    .default_output = "scattering.h5md",
     .keys = declare_keys,
     .build = build,
     .members = [](const Config& c) { return static_cast<std::size_t>(c.integer("scan.points")); },

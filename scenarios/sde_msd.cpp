@@ -142,6 +142,7 @@ void write(const Config& config, const SdeMsdResult& result, H5mdFile& file) {
   const auto diffusivity = diffusivity_from_msd(result.time, result.msd, dimension);
   const auto diffusivity_theory = diffusivity_from_msd(result.time, result.msd_theory, dimension);
   const double dt = config.real("run.dt");
+  declare_msd_series_units(file);
   for (std::size_t k = 0; k < result.time.size(); ++k) {
     const auto step = std::llround(result.time[k] / dt);
     file.append_observable("msd", step, result.time[k], result.msd[k]);
@@ -179,7 +180,7 @@ Scenario sde_scenario(const std::string& name, bool scaled, const std::string& s
   return Scenario{
       .name = name,
       .summary = summary,
-      .default_output = name + ".h5",
+      .default_output = name + ".h5md",
       .keys = [scaled](ConfigSchema& s) { declare_keys(s, scaled); },
       .build = build_any,
       .members = ensemble_members,

@@ -11,7 +11,7 @@ namespace granflow::scenarios {
 GRANFLOW_REGISTER_SCENARIO(speed_distribution, Scenario{
   .name = "speed_distribution",
   .summary = "relaxation of a one-speed gas to Maxwell-Boltzmann; speed histograms (EDMD)",
-  .default_output = "speed_distribution.h5",
+  .default_output = "speed_distribution.h5md",
   .keys = [](ConfigSchema& s) { declare_speed_study_keys(s, SamplingDefaults{20.0, 10, 10.0, 0.05}); },
   .build = [](Run& run) {
     if (run.config().integer("system.dimension") == 2)

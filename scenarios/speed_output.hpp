@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "engine/h5md_file.hpp"
+#include "engine/units.hpp"
 #include "systems/observables/maxwell_boltzmann.hpp"
 #include "systems/observables/speed_samples.hpp"
 
@@ -35,8 +36,8 @@ SpeedReport write_speed_histogram(H5mdFile& file, const std::string& name, const
   report.chi_square_critical = theory::chi_square_critical_0999(test_bins - 2);
   report.chi_square = report.temperature > 0 ? theory::speed_chi_square<D>(speeds, report.temperature, mass, test_bins)
                                              : 0.0;
-  file.write_observable_constant(name, histogram.density);
-  file.write_observable_constant(name + "_edges", histogram.edges);
+  file.write_observable_constant(name, histogram.density, unit::per_velocity);
+  file.write_observable_constant(name + "_edges", histogram.edges, unit::velocity);
   const std::string group = "/observables/speed_statistics/" + name;
   file.write_attribute(group, "samples", static_cast<double>(report.measured.samples));
   file.write_attribute(group, "mass", mass);

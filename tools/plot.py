@@ -24,6 +24,7 @@ sweep summaries: each summary observable (mean and standard error over
   repeats) against a swept key.
 """
 import argparse
+import os
 import sys
 
 import h5py
@@ -307,7 +308,7 @@ def main():
     parser.add_argument("--logx", action="store_true", help="sweep summaries: logarithmic x axis")
     args = parser.parse_args()
     first = args.files[0]
-    output = args.output or (first[:-3] if first.endswith(".h5") else first) + ".png"
+    output = args.output or os.path.splitext(first)[0] + ".png"
     files = [h5py.File(name, "r") for name in args.files]
     try:
         scenario = scenario_of(files[0])

@@ -4,6 +4,7 @@
 // including an elastically equilibrated state. Scenarios share the keys
 // declared here so every EDMD scenario is configured the same way.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -13,6 +14,7 @@
 #include <spdlog/spdlog.h>
 
 #include "components/box.hpp"
+#include "components/image_count.hpp"
 #include "components/last_collision_time.hpp"
 #include "components/mass.hpp"
 #include "components/position.hpp"
@@ -160,6 +162,9 @@ void build_gas(World& world, const Config& config, std::uint64_t seed,
   auto& velocity = world.add_component<Velocity<D>>();
   std::fill(mass.values.begin(), mass.values.end(), config.real("system.mass"));
   std::fill(radius.values.begin(), radius.values.end(), config.real("system.radius"));
+  // Periodic images are counted, so that frames can be unwrapped (H5MD `image`).
+  if (std::find(box.periodic.begin(), box.periodic.end(), true) != box.periodic.end())
+    world.add_component<ImageCount<D>>();
   if (customize) customize(world);
 
   PlacementRegion<D> everywhere;
@@ -185,7 +190,12 @@ void build_gas(World& world, const Config& config, std::uint64_t seed,
     const auto total = static_cast<std::uint64_t>(std::ceil(collisions * static_cast<double>(count) / 2));
     const StopReason reason = run_elastic_preparation(gas, total, preparation.named("elastic equilibration"));
     gas.synchronize(gas.time());
-    // The run proper starts its clock at zero: forget the preparation's collision times.
+    // The run proper starts its clock at zero: forget the preparation's
+    // collision times, and count images from the state it starts in.
+    if (world.has_component<ImageCount<D>>()) {
+      auto& image = world.component<ImageCount<D>>();
+      std::fill(image.values.begin(), image.values.end(), Eigen::Matrix<std::int32_t, D, 1>::Zero());
+    }
     if (world.has_component<LastCollisionTime>()) {
       auto& last = world.component<LastCollisionTime>();
       std::fill(last.values.begin(), last.values.end(), -std::numeric_limits<double>::infinity());

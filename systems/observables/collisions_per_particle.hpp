@@ -5,6 +5,7 @@
 #include "engine/observable_store.hpp"
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
+#include "engine/units.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 
 namespace granflow {
@@ -16,7 +17,7 @@ class CollisionsPerParticleObserver : public System {
  public:
   std::string name() const override { return "observe_collisions_per_particle"; }
   Access access() const override {
-    return Access{}.reads<edmd::EventDrivenGas<D>>().writes_observable("collisions_per_particle");
+    return Access{}.reads<edmd::EventDrivenGas<D>>().writes_observable("collisions_per_particle", unit::none);
   }
   void run(World& world) override {
     const auto n = static_cast<double>(std::max<std::size_t>(world.size(), 1));

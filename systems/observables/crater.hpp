@@ -19,6 +19,7 @@
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
+#include "engine/units.hpp"
 
 namespace granflow {
 
@@ -39,8 +40,8 @@ class CraterObserver : public System, public Stateful {
   Access access() const override {
     return Access{}
         .reads<Position<D>, Species, ParticleId, Radius>()
-        .writes_observable("crater_size")
-        .writes_observable("projectile_depth");
+        .writes_observable("crater_size", unit::none)
+        .writes_observable("projectile_depth", unit::length);
   }
   StateMap save_state() const override { return {{"initial_position", flatten_vectors(initial_)}}; }
   void restore_state(const StateMap& state) override {

@@ -9,6 +9,7 @@
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
+#include "engine/units.hpp"
 
 namespace granflow {
 
@@ -26,7 +27,7 @@ class KineticEnergyObserver : public System {
  public:
   std::string name() const override { return "observe_kinetic_energy"; }
   Access access() const override {
-    return Access{}.reads<Velocity<D>, Mass>().writes_observable("kinetic_energy").writes_observable("temperature");
+    return Access{}.reads<Velocity<D>, Mass>().writes_observable("kinetic_energy", unit::energy).writes_observable("temperature", unit::energy);
   }
   void run(World& world) override {
     const double mean = world.size() ? total_kinetic_energy<D>(world) / static_cast<double>(world.size()) : 0.0;

@@ -19,6 +19,7 @@
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
+#include "engine/units.hpp"
 
 namespace granflow {
 
@@ -64,7 +65,7 @@ class MsdObserver : public System, public Stateful {
 
   std::string name() const override { return "observe_msd"; }
   Access access() const override {
-    return Access{}.reads<Position<D>, ImageCount<D>, ParticleId>().writes_observable("msd");
+    return Access{}.reads<Position<D>, ImageCount<D>, ParticleId>().writes_observable("msd", unit::area);
   }
   StateMap save_state() const override { return {{"origin", flatten_vectors(origin_)}}; }
   void restore_state(const StateMap& state) override { unflatten_vectors(state.at("origin"), origin_, "MSD origins"); }

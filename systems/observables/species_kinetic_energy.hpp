@@ -12,6 +12,7 @@
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
+#include "engine/units.hpp"
 
 namespace granflow {
 
@@ -39,7 +40,7 @@ class SpeciesKineticEnergyObserver : public System {
 
   std::string name() const override { return "observe_kinetic_energy_by_species"; }
   Access access() const override {
-    return Access{}.reads<Velocity<D>, Mass, Species>().writes_observable(observable);
+    return Access{}.reads<Velocity<D>, Mass, Species>().writes_observable(observable, unit::energy);
   }
   void run(World& world) override {
     world.resource<ObservableStore>().set(observable, species_kinetic_energies<D>(world, species_count_));

@@ -14,12 +14,14 @@
 #include <vector>
 
 #include "engine/config.hpp"
+#include "engine/h5md_file.hpp"
 #include "engine/run.hpp"
 #include "engine/run_control.hpp"
 #include "engine/state_map.hpp"
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/trigger.hpp"
+#include "engine/units.hpp"
 #include "systems/observables/msd.hpp"
 #include "systems/observables/multiple_tau_msd.hpp"
 
@@ -31,6 +33,15 @@ struct MsdDefaults {
   std::int64_t time_average_particles = 0;
   double sample_interval = 0.0;  // 0: no msd.sample_interval key (sampled every step)
 };
+
+// Units of the MSD series an ensemble's reduction writes (ensemble MSD with
+// its error and theory, the diffusivity, the time average over lags).
+inline void declare_msd_series_units(H5mdFile& file) {
+  for (const char* name : {"msd", "msd_stderr", "msd_theory", "time_averaged_msd", "time_averaged_msd_stderr"})
+    file.declare_unit(name, unit::area);
+  for (const char* name : {"diffusivity", "diffusivity_theory"}) file.declare_unit(name, unit::diffusivity);
+  file.declare_unit("ergodicity_breaking", unit::none);
+}
 
 inline void declare_msd_keys(ConfigSchema& schema, const MsdDefaults& d) {
   schema.integer("msd.time_average_particles", d.time_average_particles, 0, 100000000,
@@ -54,9 +65,9 @@ class TimeAveragedMsdObserver : public System, public Stateful {
   Access access() const override {
     return Access{}
         .reads<Position<D>, ImageCount<D>, ParticleId, RunControl>()
-        .writes_observable("time_averaged_msd_lag")
-        .writes_observable("time_averaged_msd")
-        .writes_observable("ergodicity_breaking");
+        .writes_observable("time_averaged_msd_lag", unit::time)
+        .writes_observable("time_averaged_msd", unit::area)
+        .writes_observable("ergodicity_breaking", unit::none);
   }
   void run(World& world) override {
     if (world.resource<RunControl>().ending) {

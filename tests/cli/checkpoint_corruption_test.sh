@@ -28,8 +28,8 @@ pristine = f"{work}/pristine.checkpoint"
 reference = h5py.File(f"{work}/reference.h5", "r")
 failures = 0
 
-def resume(path, label):
-    """0: refused or identical; 1: a failure of the program."""
+def resume(path, label, must_resume=False):
+    """0: refused or identical; 1: a failure of the program (or a refusal where must_resume)."""
     out = f"{work}/case.h5"
     for leftover in (out, out + ".checkpoint", out + ".partial"):
         if os.path.exists(leftover): os.remove(leftover)
@@ -39,6 +39,8 @@ def resume(path, label):
                              capture_output=True, text=True, timeout=60)
     except subprocess.TimeoutExpired:
         print(f"FAIL: {label}: resume hung"); return 1
+    if run.returncode == 2 and must_resume:
+        print(f"FAIL: {label}: refused: {run.stderr.strip()[-300:]}"); return 1
     if run.returncode == 2:
         if "delete it" not in run.stderr and "checkpoint" not in run.stderr:
             print(f"FAIL: {label}: refused without saying why: {run.stderr.strip()}"); return 1
@@ -62,7 +64,7 @@ for fraction in (0.0, 0.1, 0.5, 0.9, 0.999):
 # Random bytes anywhere.
 rng = random.Random(7)
 data = open(pristine, "rb").read()
-for trial in range(25):
+for trial in range(60):
     damaged = bytearray(data)
     for _ in range(rng.choice((1, 4, 32))):
         damaged[rng.randrange(len(damaged))] = rng.randrange(256)
@@ -70,7 +72,28 @@ for trial in range(25):
     open(path, "wb").write(bytes(damaged))
     failures += resume(path, f"random bytes, trial {trial}")
 
-# Crafted values with a valid checksum (the FNV-1a of engine/checkpoint_file.cpp).
+# The seal of engine/file_seal.cpp: FNV-1a over the 8-byte words after the
+# 512-byte user block, then the remaining bytes, written into the block.
+def reseal(path):
+    data = open(path, "rb").read()
+    body = data[512:]
+    words = np.frombuffer(body[: len(body) // 8 * 8], dtype="<u8")
+    h = 14695981039346656037
+    for word in words.tolist(): h = ((h ^ word) * 1099511628211) & 0xFFFFFFFFFFFFFFFF
+    for byte in body[len(body) // 8 * 8:]: h = ((h ^ byte) * 1099511628211) & 0xFFFFFFFFFFFFFFFF
+    line = f"granflow-seal fnv1a64-words {h:016x} {len(body)}\n".encode()
+    with open(path, "r+b") as f: f.write(line + b"\0" * (512 - len(line)))
+
+# The seal is checked before HDF5 reads anything: a file edited without it is refused.
+shutil.copy(pristine, f"{work}/edited.checkpoint")
+with h5py.File(f"{work}/edited.checkpoint", "a") as f: f["/checkpoint"].attrs["note"] = "edited"
+failures += resume(f"{work}/edited.checkpoint", "edited without resealing")
+resealed = f"{work}/resealed.checkpoint"
+shutil.copy(f"{work}/edited.checkpoint", resealed)
+reseal(resealed)
+failures += resume(resealed, "edited and resealed (the seal is recomputed correctly)", must_resume=True)
+
+# Crafted values with a valid checksum (the FNV-1a of engine/checkpoint_file.cpp) and seal.
 def checksum(configuration, state):
     h = 14695981039346656037
     def mix(b):
@@ -83,7 +106,7 @@ def checksum(configuration, state):
         mix(np.asarray(state[name], dtype="<f8").tobytes())
     return f"fnv1a64:{h:016x}"
 
-def crafted(label, change):
+def crafted(label, change, must_resume=False):
     path = f"{work}/crafted.checkpoint"
     shutil.copy(pristine, path)
     with h5py.File(path, "a") as f:
@@ -97,8 +120,9 @@ def crafted(label, change):
         f["/checkpoint/names"] = np.array(names, dtype=h5py.string_dtype())
         toml = f["/parameters/toml"][()]
         f["/checkpoint"].attrs["checksum"] = checksum(toml.decode() if isinstance(toml, bytes) else toml, state)
+    reseal(path)
     global failures
-    failures += resume(path, label)
+    failures += resume(path, label, must_resume)
 
 def setter(name, index, value):
     def change(state):
@@ -110,7 +134,7 @@ def shorten(name):
     def change(state): state[name] = np.array(state[name])[:-1]
     return change
 
-crafted("unchanged, checksum recomputed", lambda s: None)
+crafted("unchanged, checksum recomputed", lambda s: None, must_resume=True)
 crafted("mass -1", setter("world/mass", 3, -1.0))
 crafted("negative kinetic energy", setter("kept/event_driven_gas/scalars", 1, -5.0))
 crafted("NaN event time", setter("kept/event_driven_gas/event_time", 2, float("nan")))

@@ -94,14 +94,14 @@ summary = ["temperatur"]
 collision.restitution = [1.0, 0.9, 0.8, 0.7, 0.6, 0.5]
 TOML
 output=$("$granflow" sweep "$work/misspelt.toml" -j 1 -o "$work/misspelt" -q 2>&1); status=$?
-results=$(ls "$work/misspelt"/*.h5 2>/dev/null | wc -l)
+results=$(ls "$work/misspelt"/*.h5md 2>/dev/null | wc -l)
 if [[ $status -eq 2 && "$output" == *"summary observable 'temperatur'"* && "$output" == *"temperature"* \
       && $results -eq 1 ]]; then echo "ok: misspelt summary name stops the sweep after one run"
 else fail "misspelt summary name: exit $status, $results result files: $output"; fi
 # Rerun with the name fixed: the first run is reused, so the check comes before any new run.
 sed -i 's/"temperatur"/"temperature", "nonexistent"/' "$work/misspelt.toml"
 output=$("$granflow" sweep "$work/misspelt.toml" -j 1 -o "$work/misspelt" -q 2>&1); status=$?
-results=$(ls "$work/misspelt"/*.h5 2>/dev/null | wc -l)
+results=$(ls "$work/misspelt"/*.h5md 2>/dev/null | wc -l)
 [[ $status -eq 2 && "$output" == *"'nonexistent'"* && $results -eq 1 ]] \
   && echo "ok: summary names checked against a reused result before any run" \
   || fail "reused-result summary check: exit $status, $results result files: $output"

@@ -53,7 +53,7 @@ system.boundary = ["periodic", "reflecting"]
   EXPECT_EQ(last.config.integer("system.count"), 300);
   EXPECT_DOUBLE_EQ(last.config.real("collision.restitution"), 0.5);
   EXPECT_EQ(last.config.text("system.boundary"), "reflecting");
-  EXPECT_EQ(last.output, std::filesystem::path("out") / "p007_r01.h5");
+  EXPECT_EQ(last.output, std::filesystem::path("out") / "p007_r01.h5md");
   // Repeat 0 keeps the base seed; others differ from it and from each other, reproducibly.
   std::set<std::int64_t> seeds;
   for (const auto& run : plan.runs) {

@@ -20,7 +20,7 @@ cd "$work"
 "$work/example/sonine_cooling" run "$source/docs/examples/sonine/sonine.toml" --set collision.restitution=0.8 \
   --set run.t_stop=20 -q | tee "$work/run.log"
 grep -q '^xi = 0.8: a2 = ' "$work/run.log"
-"$work/prefix/bin/granflow" info "$work/sonine.h5" | tee "$work/info.log" | grep -q '/observables/sonine_a2/value'
+"$work/prefix/bin/granflow" info "$work/sonine.h5md" | tee "$work/info.log" | grep -q '/observables/sonine_a2/value'
 grep -q '/observables/kinetic_energy/value' "$work/info.log"
 grep -q '/profile/system' "$work/info.log"
 # The user's program has the built-in scenarios too, and their keys.

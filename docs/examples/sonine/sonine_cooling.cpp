@@ -15,6 +15,7 @@
 #include "engine/cli.hpp"
 #include "engine/run.hpp"
 #include "engine/scenario.hpp"
+#include "engine/units.hpp"
 #include "systems/edmd/event_driven_run.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/observables/kinetic_energy.hpp"
@@ -27,7 +28,7 @@ constexpr int D = 3;
 class SonineObserver : public System {
  public:
   std::string name() const override { return "observe_sonine_a2"; }
-  Access access() const override { return Access{}.reads<Velocity<D>>().writes_observable("sonine_a2"); }
+  Access access() const override { return Access{}.reads<Velocity<D>>().writes_observable("sonine_a2", unit::none); }
   void run(World& world) override {
     double v2 = 0.0, v4 = 0.0;
     for (const auto& v : world.component<Velocity<D>>().values) {
@@ -74,7 +75,7 @@ void build(Run& run) {
 GRANFLOW_REGISTER_SCENARIO(sonine_cooling, Scenario{
   .name = "sonine_cooling",
   .summary = "Sonine coefficient a2 of a freely cooling gas against kinetic theory (example)",
-  .default_output = "sonine.h5",
+  .default_output = "sonine.h5md",
   .keys = [](ConfigSchema& s) {
     edmd::GasDefaults gas;
     gas.count = 2000;
