@@ -244,9 +244,13 @@ void H5mdFile::write_box(const std::vector<double>& edges, const std::vector<std
   const hid_t element = group("/particles/all/box/edges");
   h5_check(H5Lcreate_hard(frames.step, ".", element, "step", H5P_DEFAULT, H5P_DEFAULT), "link box/edges/step");
   h5_check(H5Lcreate_hard(frames.time, ".", element, "time", H5P_DEFAULT, H5P_DEFAULT), "link box/edges/time");
-  std::vector<double> repeated;
-  for (hsize_t k = 0; k < frames.frames; ++k) repeated.insert(repeated.end(), edges.begin(), edges.end());
-  write_dataset(element, "value", H5T_NATIVE_DOUBLE, repeated.data(), {frames.frames, edges.size()});
+  // Each frame's box as the D x D matrix of its edge vectors (diagonal here),
+  // the form of H5MD edges that MDAnalysis reads.
+  const std::size_t d = edges.size();
+  std::vector<double> matrices(frames.frames * d * d, 0.0);
+  for (hsize_t k = 0; k < frames.frames; ++k)
+    for (std::size_t a = 0; a < d; ++a) matrices[(k * d + a) * d + a] = edges[a];
+  write_dataset(element, "value", H5T_NATIVE_DOUBLE, matrices.data(), {frames.frames, d, d});
 }
 
 void H5mdFile::write_particle_constant(const std::string& name, const std::vector<double>& data,
