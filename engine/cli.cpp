@@ -1,5 +1,6 @@
 #include "engine/cli.hpp"
 
+#include <filesystem>
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -7,20 +8,22 @@
 #include <tbb/global_control.h>
 #include <unistd.h>
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 
 #include "engine/config.hpp"
+#include "engine/file_seal.hpp"
 #include "engine/h5_handle.hpp"
 #include "engine/h5md_reader.hpp"
 #include "engine/input_error.hpp"
+#include "engine/particle_export.hpp"
+#include "engine/provenance.hpp"
 #include "engine/runner.hpp"
 #include "engine/scenario.hpp"
 #include "engine/sweep_plan.hpp"
 #include "engine/sweep_runner.hpp"
 #include "engine/system_catalogue.hpp"
-#include "engine/file_seal.hpp"
-#include "engine/provenance.hpp"
 #include "engine/version.hpp"
 
 namespace granflow {
@@ -101,6 +104,18 @@ void info_command(const std::string& path, bool edited) {
   }
 }
 
+void export_command(const std::string& path, const std::string& format, std::string output, bool edited) {
+  if (const SealState seal = check_seal(path); seal == SealState::broken && !edited)
+    throw InputError(fmt::format("'{}' {} (its seal does not match its contents)", path, describe(seal)));
+  if (output.empty()) output = std::filesystem::path(path).replace_extension(format).string();
+  try {
+    const std::size_t frames = format == "xyz" ? export_extended_xyz(path, output) : export_xdmf(path, output);
+    spdlog::info("{} frames of '{}' written to '{}'", frames, path, output);
+  } catch (const H5Error& error) {
+    throw InputError(fmt::format("cannot export '{}': {}", path, error.what()));
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -145,6 +160,16 @@ int main(int argc, char** argv) {
   info->add_option("file", info_path, "H5MD result file")->required();
   bool edited = false;
   info->add_flag("--edited", edited, "the file was changed after granflow wrote it, on purpose: read it anyway");
+  auto* export_frames = app.add_subcommand("export", "write a result file's particle frames for OVITO (extended XYZ) "
+                                                   "or ParaView (XDMF)");
+  std::string export_path, export_format, export_output;
+  export_frames->add_option("file", export_path, "H5MD result file with particle frames")->required();
+  export_frames->add_option("--format", export_format, "xyz (extended XYZ) or xdmf (XML over the same HDF5 file)")
+      ->required()
+      ->check(CLI::IsMember({"xyz", "xdmf"}));
+  export_frames->add_option("-o,--output", export_output, "output file (default: the result's name with .xyz or .xdmf)");
+  export_frames->add_flag("--edited", edited, "the file was changed after granflow wrote it, on purpose: read it anyway");
+
   std::string keys_name;
   auto* keys = app.add_subcommand("keys", "list a scenario's configuration keys with defaults and ranges");
   keys->add_option("scenario", keys_name, "scenario name")->required();
@@ -170,6 +195,7 @@ int main(int argc, char** argv) {
     if (*list) list_command();
     if (*info) info_command(info_path, edited);
     if (*keys) keys_command(keys_name);
+    if (*export_frames) export_command(export_path, export_format, export_output, edited);
     return 0;
   } catch (const InputError& error) {
     spdlog::error("{}", error.what());

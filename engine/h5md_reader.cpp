@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cstring>
+
 namespace granflow {
 
 namespace {
@@ -117,6 +119,27 @@ DoubleArray H5mdReader::doubles(const std::string& dataset_path) const {
   return out;
 }
 
+DoubleArray H5mdReader::frame(const std::string& dataset_path, std::uint64_t index) const {
+  H5Handle dataset(H5Dopen2(file_, dataset_path.c_str(), H5P_DEFAULT), H5Dclose, "open " + dataset_path);
+  const auto shape = shape_of(dataset, dataset_path);
+  if (shape.empty() || index >= shape.front())
+    throw H5Error(fmt::format("{} has no entry {}", dataset_path, index));
+  std::vector<hsize_t> start(shape.size(), 0), count(shape.begin(), shape.end());
+  start[0] = index;
+  count[0] = 1;
+  H5Handle file_space(H5Dget_space(dataset), H5Sclose, "get space of " + dataset_path);
+  h5_check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
+           "select entry of " + dataset_path);
+  H5Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), H5Sclose,
+                        "create memory space");
+  DoubleArray out;
+  out.shape.assign(shape.begin() + 1, shape.end());
+  out.values.resize(element_count(out.shape));
+  h5_check(H5Dread(dataset, H5T_NATIVE_DOUBLE, memory_space, file_space, H5P_DEFAULT, out.values.data()),
+           "read entry of " + dataset_path);
+  return out;
+}
+
 std::vector<std::int64_t> H5mdReader::integers(const std::string& dataset_path) const {
   H5Handle dataset(H5Dopen2(file_, dataset_path.c_str(), H5P_DEFAULT), H5Dclose, "open " + dataset_path);
   std::vector<std::int64_t> out(element_count(shape_of(dataset, dataset_path)));
@@ -146,6 +169,28 @@ std::string H5mdReader::string_dataset(const std::string& dataset_path) const {
 std::string H5mdReader::string_attribute(const std::string& object_path, const std::string& name) const {
   H5Handle object(H5Oopen(file_, object_path.c_str(), H5P_DEFAULT), H5Oclose, "open " + object_path);
   return read_string_attribute_of(object, name, object_path + "@" + name);
+}
+
+std::vector<std::string> H5mdReader::string_list_attribute(const std::string& object_path,
+                                                          const std::string& name) const {
+  const std::string what = object_path + "@" + name;
+  H5Handle object(H5Oopen(file_, object_path.c_str(), H5P_DEFAULT), H5Oclose, "open " + object_path);
+  H5Handle attribute(H5Aopen(object, name.c_str(), H5P_DEFAULT), H5Aclose, "open attribute " + what);
+  H5Handle type(H5Aget_type(attribute), H5Tclose, "get type of " + what);
+  if (H5Tget_class(type) != H5T_STRING || H5Tis_variable_str(type) > 0)
+    throw H5Error("attribute " + what + " is not a list of fixed-length strings");
+  const std::size_t width = H5Tget_size(type);
+  H5Handle space(H5Aget_space(attribute), H5Sclose, "get space of " + what);
+  const hssize_t count = H5Sget_simple_extent_npoints(space);
+  if (width == 0 || width > 4096 || count < 0 || count > 4096) throw H5Error("attribute " + what + " has an impossible size");
+  std::vector<char> packed(width * static_cast<std::size_t>(count));
+  h5_check(H5Aread(attribute, type, packed.data()), "read attribute " + what);
+  std::vector<std::string> out;
+  for (hssize_t k = 0; k < count; ++k) {
+    const char* begin = packed.data() + static_cast<std::size_t>(k) * width;
+    out.emplace_back(begin, strnlen(begin, width));
+  }
+  return out;
 }
 
 double H5mdReader::double_attribute(const std::string& object_path, const std::string& name) const {

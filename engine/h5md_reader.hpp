@@ -21,9 +21,13 @@ class H5mdReader {
   bool exists(const std::string& object_path) const;
   DoubleArray doubles(const std::string& dataset_path) const;
   std::vector<std::int64_t> integers(const std::string& dataset_path) const;
+  // Entry `index` along the first axis of a dataset (one frame of a series).
+  DoubleArray frame(const std::string& dataset_path, std::uint64_t index) const;
   std::string string_dataset(const std::string& dataset_path) const;
   std::vector<std::string> string_array(const std::string& dataset_path) const;
   std::string string_attribute(const std::string& object_path, const std::string& name) const;
+  // A list of fixed-length strings (the box's boundary words).
+  std::vector<std::string> string_list_attribute(const std::string& object_path, const std::string& name) const;
   double double_attribute(const std::string& object_path, const std::string& name) const;
   std::int64_t integer_attribute(const std::string& object_path, const std::string& name) const;
 
