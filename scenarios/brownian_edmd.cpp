@@ -1,13 +1,13 @@
 // Self-diffusion in the event-driven hard-sphere gas : the ensemble MSD of every particle from unwrapped
 // positions (periodic image counts), with the mean velocity removed at the
 // start, averaged over independent runs (standard error over runs), the
-// diffusivity from it (eqs. 4.1-4.2), and optionally the time-averaged MSD
+// diffusivity from it (D = dMSD/dt / 2d), and optionally the time-averaged MSD
 // of a subset sampled at a fixed interval. Every finished run is
 // checkpointed (OUTPUT.checkpoint); --resume reruns only the others.
 //
-// Theory: the Langevin (xi = 1, eq. 2.68) or UDSBM (xi < 1, eq. 2.113)
-// MSD with the Enskog D0 of eq. 2.52, gamma0 = T0/(m D0) (eq. 2.55) and Haff's
-// tau0 (eq. 2.45), for the measured initial velocity variance: ballistic
+// Theory: the Langevin (xi = 1) or UDSBM (xi < 1; Bodrova et al. 2016)
+// MSD with the Enskog D0, gamma0 = T0/(m D0) and Haff's
+// tau0, for the measured initial velocity variance: ballistic
 // 3 (T0/m) t^2 at first, then 6 D0 t (molecular) or ~6 D0 tau0 ln(1 + t/tau0)
 // (granular: ultraslow, logarithmic growth).
 

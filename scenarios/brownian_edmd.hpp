@@ -13,7 +13,7 @@ namespace granflow::scenarios {
 struct EdmdMsdResult {
   std::vector<double> time, msd, msd_stderr, msd_theory;
   std::vector<double> lag, time_averaged_msd, ergodicity_breaking;
-  sde::SdeModel enskog;          // gamma0, D0 (eq. 2.52) and tau0 (eq. 2.45) of the initial state
+  sde::SdeModel enskog;          // gamma0, D0 (Enskog) and tau0 (Haff) of the initial state
   double temperature0 = 0.0;
   double long_time_slope = 0.0;  // least-squares slope of the MSD over the last decade of times
 };

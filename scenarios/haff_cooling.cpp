@@ -1,6 +1,6 @@
 // Homogeneous cooling of a granular gas: N inelastic hard spheres (disks) in a
 // periodic box, equilibrated elastically, then cooling with restitution xi.
-// Haff's law (Haff 1983; Brilliantov & Poeschel 2004, eq. 6.7):
+// Haff's law (Haff 1983; Brilliantov & Poeschel 2004):
 //   T(t)/T0 = 1 / (1 + t/tau0)^2,  tau0 = 2 d / ((1 - xi^2) omega0)  [d = 3; 2 in 2D]
 // with omega0 the Enskog collision frequency of the initial state.
 

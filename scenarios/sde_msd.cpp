@@ -1,17 +1,17 @@
 // Mean squared displacement of Langevin dynamics (`langevin_msd`, the
 // molecular gas) and of underdamped scaled Brownian motion (`udsbm_msd`, the
-// granular gas), seed 000 sec. 4.2, figs. 4.17-4.23: an ensemble of
+// granular gas; Bodrova et al. 2016): an ensemble of
 // independent particles started at one point, with gamma0, D0 (and tau0)
-// those of the hard-sphere gas N = 1000, r = 0.025, L = 1, T0 = 2/3 (eqs.
-// 2.45, 2.52, 2.55), or given directly. Several independent runs give the
-// standard error of the ensemble MSD; the time-averaged MSD (eq. 2.115) of a
+// those of the hard-sphere gas N = 1000, r = 0.025, L = 1, T0 = 2/3 (Enskog
+// theory, systems/sde/sde_theory.hpp), or given directly. Several independent runs give the
+// standard error of the ensemble MSD; the time-averaged MSD (Metzler et al. 2014) of a
 // subset of particles is accumulated on the fly by a multiple-tau
 // correlator, with the ergodicity-breaking parameter. Each finished run is
 // checkpointed (OUTPUT.checkpoint); --resume continues after the last one.
 //
 // Theory: the exact second-moment equations for the initial velocity
-// variance used (systems/sde/sde_theory.hpp), which are eq. 2.68 (Langevin)
-// and eq. 2.113 (UDSBM) for a stationary start.
+// variance used (systems/sde/sde_theory.hpp), which are the closed forms of
+// Langevin dynamics and of UDSBM (Bodrova et al. 2016) for a stationary start.
 
 #include "scenarios/sde_msd.hpp"
 
@@ -50,7 +50,7 @@ void declare_keys(ConfigSchema& s, bool scaled) {
       .integer("system.count", 1000, 1, 100000000, "particles per run (independent, all start at the origin)")
       .choice("initial.velocity", "stationary", {"stationary", "fixed_speed"},
               "stationary: Gaussian with the variance the noise sustains at t = 0; fixed_speed: |v| = "
-              "initial.speed in random directions (seed 000's choice)")
+              "initial.speed in random directions (as the hard-sphere gas starts)")
       .real("initial.speed", std::sqrt(2.0), 0.0, inf, "initial speed (fixed_speed)")
       .real("run.t_stop", 100.0, 0.0, inf, "stop time", true)
       .real("output.first", 0.01, 0.0, inf, "first output time after t = 0", true)

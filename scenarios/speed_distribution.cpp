@@ -1,7 +1,7 @@
 // Speed distribution of an elastic gas: all particles start at one speed in
 // random directions (a delta distribution) and relax to Maxwell-Boltzmann;
 // the equilibrium histogram gathers several snapshots 10 collisions per
-// particle apart (Poeschel & Schwager 2005, ch. 3).
+// particle apart (Poeschel & Schwager 2005).
 
 #include "engine/scenario.hpp"
 #include "scenarios/speed_study.hpp"

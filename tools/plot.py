@@ -5,7 +5,7 @@ Usage: /usr/bin/python3 tools/plot.py OUT.h5 [MORE.h5 ...] [-o FIGURE.png]
        /usr/bin/python3 tools/plot.py SWEEP/summary.h5 [--x KEY] [--y NAME] [--logx]
 
 haff_cooling: T(t)/T0 on log-log axes with Haff's law T0/(1 + t/tau0)^2
-  (seed 000 eqs. 2.40 and 2.45) and the ratio to Haff's law below it.
+  (Haff 1983) and the ratio to Haff's law below it.
 speed_distribution: initial (delta) and equilibrium speed histograms with the
   Maxwell-Boltzmann density at the measured temperature.
 mixture: mean kinetic energy of all particles and of each species against
@@ -16,7 +16,7 @@ crater_impact: the bed before and after the impact drawn to scale (disks
   of their true radii; crater disks coloured), and crater size, projectile
   depth and kinetic energy against time.
 langevin_msd, udsbm_msd: ensemble MSD (standard error over runs) with the
-  theory (eq. 2.68 / 2.113 through the moment equations), the time-averaged
+  theory (the exact moment equations), the time-averaged
   MSD against lag, the diffusivity and the ergodicity-breaking parameter.
 brownian_edmd: MSD of the event-driven gas with the Langevin / UDSBM theory
   (Enskog D0), time-averaged MSD, and the diffusivity against time.
@@ -278,7 +278,7 @@ def plot_msd(files, output):
     left.set_title(title, fontsize=9)
     left.legend(fontsize=8)
     t, diffusivity = series(f, "diffusivity")
-    right.loglog(t, diffusivity, "o", ms=3, label="D(t) from the MSD (eqs. 4.1-4.2)")
+    right.loglog(t, diffusivity, "o", ms=3, label="D(t) from the MSD (D = dMSD/dt / 2d)")
     if "diffusivity_theory" in f["/observables"]:
         right.loglog(*series(f, "diffusivity_theory"), "k--", label="theory")
     if "ergodicity_breaking" in f["/observables"]:

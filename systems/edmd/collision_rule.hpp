@@ -1,8 +1,8 @@
 #pragma once
 // Hard-sphere kinematics shared by the fast engine, the reference engine and
 // (later) device code: time to contact, the smooth inelastic pair collision
-// (seed 000 eqs. 2.10-2.11, seed 002 eq. 11) and the wall reflection
-// (seed 002 eqs. 3-4).
+// with a constant normal restitution (Brilliantov & Poeschel 2004;
+// Poeschel & Schwager 2005) and the wall reflection.
 
 #include <cmath>
 #include <limits>
@@ -53,8 +53,7 @@ GRANFLOW_HD inline PairCollisionResult collide_pair(Vec<D>& vi, Vec<D>& vj, doub
 }
 
 // Wall on `axis`: the normal component reverses and every component is
-// multiplied by the wall restitution, as in seed 002 eqs. 3-4 (and seed 000
-// sec. 2.3), which keeps the law of reflection for inelastic walls and
+// multiplied by the wall restitution, which keeps the law of reflection for inelastic walls and
 // brings a particle to rest for restitution 0.
 template <int D>
 GRANFLOW_HD inline double reflect_from_wall(Vec<D>& v, double mass, int axis, double restitution) {

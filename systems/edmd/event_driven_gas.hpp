@@ -2,8 +2,8 @@
 // Event-driven dynamics of smooth inelastic hard spheres (D = 3) and disks
 // (D = 2), one code path for both.
 //
-// The algorithm follows the fastest published codes rather than the seeds'
-// move-everyone/all-pairs loop:
+// The algorithm follows the fastest published codes rather than a loop that
+// moves every particle and tests all pairs at every event:
 //  * delayed states: a particle's position holds at its own local time, and
 //    only the particles in an event are advanced (Marin, Risso & Cordero 1993);
 //  * what a prediction reads of a neighbour (position, velocity, local time,

@@ -3,7 +3,7 @@
 // Runner's next target (a time, or a pair-collision count, which is the
 // Clock's step for event-driven runs) or a stop criterion, and brings every
 // particle to that moment, so the observers that follow see one synchronised
-// state (Poeschel & Schwager 2005, ch. 3). The gas is the World's
+// state (Poeschel & Schwager 2005). The gas is the World's
 // EventDrivenGas<D> resource.
 
 #include <fmt/format.h>

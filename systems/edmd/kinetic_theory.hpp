@@ -42,14 +42,15 @@ double collision_frequency(double number_density, double diameter, double temper
     return 2.0 * std::sqrt(std::numbers::pi) * g2 * number_density * diameter * thermal;
 }
 
-// Haff's characteristic time: 1/tau0 = (1 - xi^2) omega(T0) / (2 d) (seed 000 eq. 2.45 in 3D).
+// Haff's characteristic time: 1/tau0 = (1 - xi^2) omega(T0) / (2 d), with omega
+// the Enskog collision frequency (Haff 1983; Brilliantov & Poeschel 2004).
 template <int D>
 double haff_time(double restitution, double collision_frequency_at_t0) {
   const double rate = (1.0 - restitution * restitution) * collision_frequency_at_t0 / (2.0 * D);
   return rate > 0.0 ? 1.0 / rate : INFINITY;
 }
 
-// Haff's law T(t)/T0 = 1 / (1 + t/tau0)^2 (seed 000 eq. 2.40).
+// Haff's law T(t)/T0 = 1 / (1 + t/tau0)^2 (Haff 1983).
 inline double haff_temperature_ratio(double t, double tau0) {
   const double s = 1.0 + t / tau0;
   return 1.0 / (s * s);

@@ -1,7 +1,7 @@
 #pragma once
-// Initial velocities: one speed in isotropic random directions (seed 000
-// eq. 3.3, but with directions uniform on the sphere: eq. 3.3's uniform polar
-// angle would crowd the poles), or Maxwell-Boltzmann at a temperature. Each
+// Initial velocities: one speed in isotropic random directions (uniform on
+// the sphere, Marsaglia 1972; a uniform polar angle would crowd the poles),
+// or Maxwell-Boltzmann at a temperature. Each
 // particle's draw is keyed by its id, so it is the same on any thread count.
 
 #include <cmath>
@@ -49,7 +49,7 @@ std::vector<Vec<D>> maxwell_boltzmann_velocities(const std::vector<double>& mass
   return v;
 }
 
-// Removes the centre-of-mass velocity (seed 000 sec. 3.8), then rescales so
+// Removes the centre-of-mass velocity (a periodic gas keeps it forever), then rescales so
 // the total kinetic energy is what it was before.
 template <int D>
 void remove_mean_velocity(std::vector<Vec<D>>& velocity, const std::vector<double>& mass) {

@@ -6,7 +6,7 @@
 // event-driven run of a few tens of collisions per particle inside the
 // region's own reflecting walls melts the lattice into an equilibrium hard-disk
 // fluid. Hard disks stay fluid up to a packing fraction of about 0.70, so
-// this reaches the bed of seed 002 problem 4 (0.5) or denser in seconds.
+// this reaches the crater bed (0.5) or denser in seconds.
 
 #include <algorithm>
 #include <cmath>

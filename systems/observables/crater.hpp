@@ -1,5 +1,6 @@
 #pragma once
-// Crater observables of an impact into a granular bed (seed 002 problem 4):
+// Crater observables of an impact into a granular bed (low-speed impact
+// cratering, e.g. Uehara et al. 2003):
 //   crater_size      bed particles displaced from their position before the
 //                    impact by more than a threshold (default one bed-particle
 //                    radius): the particles the impact has rearranged;

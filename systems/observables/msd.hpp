@@ -83,8 +83,8 @@ class MsdObserver : public System, public Stateful {
   std::vector<Vec<D>> origin_;
 };
 
-// Diffusivity from an MSD series at (possibly log-spaced) times, seed 000
-// eqs. 4.1-4.2: D = (1 / 2d) dMSD/dt, the mean of the forward and backward
+// Diffusivity from an MSD series at (possibly log-spaced) times, the
+// time-dependent Einstein relation D = (1 / 2d) dMSD/dt: the mean of the forward and backward
 // differences inside, the one-sided difference at the ends.
 inline std::vector<double> diffusivity_from_msd(const std::vector<double>& time, const std::vector<double>& msd,
                                                 int dimension) {

@@ -1,6 +1,6 @@
 #pragma once
-// Time-averaged MSD (seed 000 eq. 2.115) accumulated on the fly with a
-// multiple-tau scheme, so memory grows with the logarithm of the run length,
+// Time-averaged MSD (Metzler et al. 2014) accumulated on the fly with a
+// multiple-tau scheme (Ramirez et al. 2010), so memory grows with the logarithm of the run length,
 // not with it: level 0 keeps the last `points` samples and measures lags 1 ..
 // points-1; every `factor`-th sample of a level is passed on to the next,
 // which measures lags points/factor .. points-1 in its own (factor times

@@ -1,6 +1,6 @@
 #pragma once
-// Speeds gathered from one or several snapshots of a gas (seed 002 appendix
-// C.2: snapshots many collisions apart are nearly independent samples), per
+// Speeds gathered from one or several snapshots of a gas (snapshots many
+// collisions apart are nearly independent samples), per
 // species, with their histogram and the mean, rms and most probable speed.
 
 #include <algorithm>

@@ -1,10 +1,10 @@
 #pragma once
 // Underdamped Langevin dynamics and underdamped scaled Brownian motion
-// (UDSBM), per Cartesian component (seed 000 eqs. 2.89 and 2.106):
+// (UDSBM; Bodrova et al. 2016), per Cartesian component:
 //   dx = v dt,  dv = -gamma(t) v dt + sqrt(2 D(t)) gamma(t) dW,
 // with gamma = gamma0 / (1 + t/tau0), D = D0 / (1 + t/tau0) for UDSBM and
 // tau0 = inf (constant coefficients) for Langevin. The fluctuation-
-// dissipation relation D = T/(m gamma) fixes the noise (eq. 2.53).
+// dissipation relation D = T/(m gamma) fixes the noise (fluctuation-dissipation).
 //
 // The step functions are GRANFLOW_HD so CPU and CUDA share them.
 
@@ -58,7 +58,7 @@ GRANFLOW_HD inline OrnsteinUhlenbeck exact_velocity_update(const SdeModel& m, do
   return {decay, std::sqrt(std::max(variance, 0.0))};
 }
 
-// Euler-Maruyama exactly as in seed 000 eqs. 2.92 / 2.110, for one component:
+// Euler-Maruyama (Kloeden & Platen 1992), for one component:
 // x += v h;  v += -gamma v h + sqrt(2 D) gamma sqrt(h) N.
 GRANFLOW_HD inline void euler_maruyama_step(double& x, double& v, double gamma, double diffusivity, double h,
                                             double normal) {

@@ -9,7 +9,7 @@
 // Noise: one Philox4x32-10 call per particle and step gives four normals
 // (systems/sde/gaussian_noise.hpp), of which D are used.
 //
-// Schemes: Euler-Maruyama exactly as in seed 000 (eqs. 2.92, 2.110), or the
+// Schemes: Euler-Maruyama (Kloeden & Platen 1992), or the
 // exact Ornstein-Uhlenbeck velocity update between two half drifts (the
 // BAOAB splitting with no forces), which is exact in the velocity
 // distribution at any step and keeps the MSD accurate at steps where

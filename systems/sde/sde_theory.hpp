@@ -6,7 +6,9 @@
 //   d<x^2>/dt = 2 <xv>,  d<xv>/dt = <v^2> - gamma <xv>,
 //   d<v^2>/dt = -2 gamma <v^2> + 2 D gamma^2,
 // integrated with classical Runge-Kutta on a grid fine against 1/gamma.
-// Parameters of a hard-sphere gas: seed 000 eqs. 2.45, 2.52, 2.55.
+// Parameters of a hard-sphere gas: Haff's time (Haff 1983) and the Enskog
+// self-diffusion coefficient and velocity relaxation rate of the gas
+// (Brilliantov & Poeschel 2000, 2004), as UDSBM maps them (Bodrova et al. 2016).
 
 #include <cmath>
 #include <numbers>
@@ -17,12 +19,12 @@
 
 namespace granflow::sde {
 
-// Eq. 2.68 (Langevin, stationary start).
+// Langevin MSD for a stationary start: 2 D t - (2 D / gamma)(1 - e^{-gamma t}).
 inline double langevin_msd(const SdeModel& m, double t) {
   return 2.0 * m.diffusivity0 * t + 2.0 * m.diffusivity0 / m.gamma0 * std::expm1(-m.gamma0 * t);
 }
 
-// Eq. 2.113 (UDSBM, stationary start), k = gamma0 tau0 != 1.
+// UDSBM MSD for a stationary start (Bodrova et al. 2016), k = gamma0 tau0 != 1.
 inline double udsbm_msd(const SdeModel& m, double t) {
   const double k = m.gamma0 * m.tau0;
   const double u = 1.0 + t / m.tau0;
@@ -90,7 +92,7 @@ inline std::vector<double> moment_msd(const SdeModel& m, double v2, const std::v
 
 // gamma0, D0 and tau0 of a 3D hard-sphere gas of N spheres of radius r and
 // mass m in a box of volume V at temperature T0 with restitution xi: D0 from
-// eq. 2.52, gamma0 = T0 / (m D0) (eq. 2.55), tau0 from eq. 2.45 (inf at xi = 1).
+// Enskog theory, gamma0 = T0 / (m D0) (fluctuation-dissipation), tau0 from Haff's law (inf at xi = 1).
 inline SdeModel model_from_gas(double count, double radius, double restitution, double temperature, double mass,
                                double volume) {
   const double n = count / volume, sigma = 2.0 * radius;

@@ -1,7 +1,7 @@
-// Self-diffusion of the event-driven gas (seed 000 sec. 4.1.4). Molecular
-// gas: the long-time MSD slope lies between 6 D0 (Enskog, eq. 2.52) and
-// 1.10 x 6 D0 (Enskog misses correlated collisions: +4 % in seed 000 at N =
-// 1000, eta = 0.065; +6.4 +- 1.4 % from an established code at N = 1372),
+// Self-diffusion of the event-driven gas. Molecular gas: the long-time MSD
+// slope lies between 6 D0 (Enskog) and 1.10 x 6 D0 (Enskog misses correlated
+// collisions, the velocity autocorrelation's long-time tail of Alder &
+// Wainwright 1970: +6.4 +- 1.4 % measured with an established code at N = 1372),
 // and the time average equals the ensemble average (ergodic): to 5 %, the
 // largest difference up to lag 10 over base seeds 1-6 being 1.4-3.4 %
 // (time average below; 4 runs x 1000 particles, MSD(10) known to ~1 %). Granular gas

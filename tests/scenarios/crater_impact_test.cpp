@@ -1,6 +1,6 @@
-// Crater impact (seed 002 problem 4): every pair collision conserves
+// Crater impact: every pair collision conserves
 // momentum, every wall collision reverses the normal velocity and scales the
-// velocity by the wall restitution (seed 002 eqs. 3-4), and the kinetic energy lost equals the dissipation summed over
+// velocity by the wall restitution, and the kinetic energy lost equals the dissipation summed over
 // collisions, both as the engine reports it and as recomputed here from the
 // velocities before and after each collision.
 
@@ -38,7 +38,7 @@ TEST(CraterImpact, CollisionsConserveMomentumAndAccountForEveryJoule) {
     const std::uint32_t i = e.first;
     const Vec<2> vi = gas.velocity(i);
     if (e.second == edmd::EventRecord::wall_partner) {
-      // Seed 002 eqs. 3-4: the normal component is reversed and the whole
+      // The normal component is reversed and the whole
       // velocity scaled by the wall restitution (tangential part included),
       // or by 1 within the TC model's contact time.
       double best = INFINITY;

@@ -1,8 +1,8 @@
-// Two-mass hard-disk gas (seed 002 problems 2-3): elastic collisions bring
+// Two-mass hard-disk gas: elastic collisions bring
 // both species to the same mean kinetic energy (equipartition); inelastic
 // ones do not, and the heavy species stays hotter. The statistical error is
 // measured from snapshots two collisions per particle apart, which are close
-// to independent (seed 002 appendix C.2).
+// to independent.
 
 #include <gtest/gtest.h>
 

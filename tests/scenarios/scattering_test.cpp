@@ -1,4 +1,4 @@
-// Scattering angle against impact parameter (seed 002 appendix B.4) from
+// Scattering angle against impact parameter from
 // two-particle event-driven runs, against the analytic hard-disk result.
 
 #include <gtest/gtest.h>

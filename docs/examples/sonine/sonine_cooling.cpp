@@ -4,7 +4,7 @@
 // energy observer, registers itself, and gets granflow's whole command line
 // (run, sweep, keys, list, info, --resume, --profile) beside the built-in
 // scenarios. Compare a2 with the first Sonine approximation of kinetic
-// theory (van Noije & Ernst 1998; Brilliantov & Poeschel 2004, eq. 7.29):
+// theory (van Noije & Ernst 1998; Brilliantov & Poeschel 2004):
 //   a2 = 16 (1 - xi)(1 - 2 xi^2) / (9 + 24 d - xi (41 - 8 d) + 30 xi^2 (1 - xi)).
 
 #include <fmt/format.h>

@@ -1,5 +1,6 @@
-// Seed 002 appendix B: one particle (B.1), two particles (B.2), many
-// particles (B.3) and the scattering angle (B.4).
+// Hand-built checks of the event-driven engine: one particle against the
+// walls, two particles, many particles (energy conservation) and the
+// scattering angle of a hard disk.
 
 #include <gtest/gtest.h>
 
@@ -36,7 +37,7 @@ TEST(AppendixB1, HeadOnWallBounceKeepsSpeed) {
   gas.advance(0.6);
   gas.synchronize(gas.time());
   ASSERT_EQ(events.size(), 1u);
-  EXPECT_DOUBLE_EQ(events[0].time, 0.49);  // (1 - r - x) / v, seed 002 eq. 1
+  EXPECT_DOUBLE_EQ(events[0].time, 0.49);  // (1 - r - x) / v: time to reach the wall
   EXPECT_EQ(testing::velocity_of<2>(world, 0), V2(-1.0, 0.0));
 }
 

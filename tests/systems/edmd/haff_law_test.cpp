@@ -1,10 +1,10 @@
-// Haff's law (seed 000 eqs. 2.40 and 2.45) for a 3D granular gas, averaged
+// Haff's law (Haff 1983) for a 3D granular gas, averaged
 // over independent runs.
 //
-// Tolerance: eq. 2.40 is the homogeneous-cooling prediction with Enskog's
+// Tolerance: Haff's law is the homogeneous-cooling prediction with Enskog's
 // collision frequency. A correct code cools slightly slower than that at
 // this density: velocity correlations and slowly growing shear modes put an
-// established code 2.8 % above eq. 2.40 at t = tau0 and 7 % above at
+// established code 2.8 % above Haff's law at t = tau0 and 7 % above at
 // 10 tau0 (N = 2048, eta = 0.067, xi = 0.7); the Sonine correction pulls the
 // other way by under 1 % for xi >= 0.5. Both effects grow with time and with
 // inelasticity (measured here at N = 4000: +1.3 % / +2.7 % at tau0 / 10 tau0
@@ -12,7 +12,7 @@
 //   -(1 % + 3 se) <= T/T_Haff - 1 <= bound(t) + 3 se,
 // bound = 5 % up to tau0, 10 % at 3 tau0, 20 % at 10 tau0, with the standard
 // error se of the mean taken from the spread of the runs; and, since a
-// correct code cools a little slower than eq. 2.40, a positive deviation at
+// correct code cools a little slower than Haff's law, a positive deviation at
 // 10 tau0.
 
 #include <gtest/gtest.h>
@@ -43,7 +43,7 @@ std::vector<std::vector<double>> cooling_curves(const HaffCase& c, const std::ve
   for (int run = 0; run < c.runs; ++run) {
     Config config(scenario_schema("haff_cooling"));
     config.set("system.count", c.particles);
-    // radius for the seed's packing fraction 0.0654 at this N
+    // radius for the default packing fraction 0.0654 at this N
     config.set("system.radius", theory::radius_for_packing_fraction<3>(static_cast<double>(c.particles), 0.0654, 1.0));
     config.set("collision.restitution", c.restitution);
     config.set("run.seed", std::int64_t{100 + run});

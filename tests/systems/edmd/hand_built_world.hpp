@@ -1,5 +1,5 @@
 #pragma once
-// Worlds of a few hand-placed particles for the seed 002 appendix B cases.
+// Worlds of a few hand-placed particles for the hand-built engine checks.
 
 #include <vector>
 

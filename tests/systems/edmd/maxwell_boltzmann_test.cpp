@@ -1,5 +1,5 @@
 // Equilibrium speeds of an elastic gas started at one speed follow the
-// Maxwell-Boltzmann distribution (seed 002 eq. 12; REFERENCE.md), checked by
+// Maxwell-Boltzmann distribution, checked by
 // a chi-square goodness-of-fit test at significance level 0.001.
 
 #include <gtest/gtest.h>
@@ -45,7 +45,7 @@ void expect_maxwell_boltzmann() {
   std::vector<double> speeds;
   for (int s = 0; s < snapshots; ++s) {
     // 20 collisions per particle to equilibrate, then 5 between snapshots so
-    // that they are nearly independent (seed 002 appendix C.2).
+    // that they are nearly independent.
     AdvanceLimits limits;
     limits.max_pair_collisions = static_cast<std::uint64_t>((20 + 5 * s) * particles / 2);
     gas.advance(std::numeric_limits<double>::infinity(), limits);

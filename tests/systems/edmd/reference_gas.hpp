@@ -3,10 +3,10 @@
 // against: every particle at one common time, all pairs (and all periodic
 // images) checked after each event, every predicted event kept in a binary
 // heap and discarded when a participant's collision count has changed
-// (seed 002 sec. 1 and 3). Same interface as edmd::EventDrivenGas.
+// (the classical event-driven scheme, e.g. Rapaport 2004). Same interface as edmd::EventDrivenGas.
 // It keeps its own copy of positions and velocities in extended precision
-// and has its own collision formulas, written directly from seed 002 eqs.
-// 1-11, so it checks the shared collision rule too, and its round-off (it
+// and has its own collision formulas, written directly from the textbook
+// kinematics (wall and pair contact times, the pair collision), so it checks the shared collision rule too, and its round-off (it
 // moves every particle at every event) stays well below the fast engine's.
 
 #include <array>
@@ -133,7 +133,7 @@ class ReferenceGas {
     now_ = t;
   }
 
-  // Seed 002 eqs. 7-10.
+  // Pair contact time: the smaller root of |dx + dv t| = R12.
   static Real time_to_contact(const Vector& dx, const Vector& dv, Real contact) {
     const Real b = dv.dot(dx);
     if (b >= 0) return std::numeric_limits<Real>::infinity();
@@ -188,7 +188,7 @@ class ReferenceGas {
     const bool tc_i = now_ - last_collision_[i] < parameters_.contact_time;
     if (e.j >= wall_base) {
       const int axis = static_cast<int>(e.j - wall_base);
-      // seed 002 eqs. 3-4
+      // inelastic wall: normal reversed, every component scaled by the restitution
       const Real restitution = tc_i ? 1.0 : parameters_.wall_restitution;
       const Real before = v[i].squaredNorm();
       v[i][axis] = -v[i][axis];
@@ -209,7 +209,7 @@ class ReferenceGas {
       if (box_.periodic[a]) dx[a] -= box_.length[a] * std::round(dx[a] / box_.length[a]);
     const bool elastic = tc_i || now_ - last_collision_[j] < parameters_.contact_time;
     const Real xi = elastic ? 1.0 : parameters_.restitution;
-    // seed 002 eq. 11
+    // inelastic pair collision with normal restitution xi
     const Real energy_before = 0.5L * (m[i] * v[i].squaredNorm() + m[j] * v[j].squaredNorm());
     const Real b = (v[j] - v[i]).dot(dx);
     const Real r2 = dx.squaredNorm();

@@ -1,4 +1,4 @@
-// SDE stepping against theory (seed 000 sec. 2.9, 4.2; REFERENCE.md):
+// SDE stepping against theory (Langevin and UDSBM moments, Bodrova et al. 2016):
 // the closed forms of the MSD against the exact moment equations, the exact
 // Ornstein-Uhlenbeck update against the stationary variance, simulated
 // ensemble MSDs against theory within their standard error, ergodicity of
@@ -55,7 +55,7 @@ TEST(SdeTheory, ClosedFormsSolveTheMomentEquations) {
   const std::vector<double> times{0.001, 0.01, 0.1, 1.0, 10.0, 100.0};
   SdeModel langevin = gas_model(1.0);
   ASSERT_FALSE(langevin.scaled());
-  // Seed 000 appendix F: 6 D0 = 0.350 for this gas.
+  // Enskog: 6 D0 = 0.350 for this gas (N = 1000, r = 0.025, L = 1, T0 = 2/3).
   EXPECT_NEAR(6 * langevin.diffusivity0, 0.350, 0.001);
   const auto l = moment_msd(langevin, langevin.stationary_velocity_variance(), times);
   for (std::size_t k = 0; k < times.size(); ++k) EXPECT_NEAR(l[k] / langevin_msd(langevin, times[k]), 1.0, 1e-7);
