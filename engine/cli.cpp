@@ -60,7 +60,8 @@ void keys_command(const std::string& name) {
   if (!scenario_registry().find(name))
     throw ConfigError(fmt::format("unknown scenario '{}'; known scenarios: {}", name, known_scenarios()));
   for (const auto& spec : scenario_registry().schema(name).keys())
-    fmt::print("{:<40} = {:<22} # {}; {}\n", spec.key, to_string(spec.default_value), spec.help, spec.allowed());
+    fmt::print("{:<40} = {:<22} # {}{}; {}\n", spec.key, to_string(spec.default_value), spec.help,
+               spec.unit.empty() || spec.unit == "1" ? "" : " [" + spec.unit + "]", spec.allowed());
 }
 
 void describe_result_file(const std::string& path) {

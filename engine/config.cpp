@@ -230,6 +230,15 @@ ConfigSchema& ConfigSchema::text(const std::string& key, const std::string& def,
   return add({key, ValueType::string, def, 0, 0, false, {}, help});
 }
 
+ConfigSchema& ConfigSchema::unit(const std::string& key, const std::string& unit) {
+  for (auto& spec : keys_)
+    if (spec.key == key) {
+      spec.unit = unit;
+      return *this;
+    }
+  throw std::logic_error("unit: no key " + key);
+}
+
 ConfigSchema& ConfigSchema::allow_change_on_resume(const std::string& key) {
   for (auto& spec : keys_)
     if (spec.key == key) {

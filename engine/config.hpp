@@ -46,6 +46,7 @@ struct KeySpec {
   std::vector<std::string> choices;
   std::string help;
   bool allow_infinite = false;  // +inf accepted, meaning "no limit"
+  std::string unit;             // of a number, in H5MD notation (engine/units.hpp); "1" for pure numbers
   // A resumed run may use another value (a stop criterion, an output
   // setting); every other key must match the checkpoint's.
   bool resume_may_change = false;
@@ -80,6 +81,8 @@ class ConfigSchema {
 
   // Keys under output.* may always change on resume.
   ConfigSchema& allow_change_on_resume(const std::string& key);
+  // The unit of a numeric key (engine/units.hpp), shown by `granflow keys`.
+  ConfigSchema& unit(const std::string& key, const std::string& unit);
 
   const KeySpec* find(const std::string& key) const;
   const std::vector<KeySpec>& keys() const { return keys_; }

@@ -3,6 +3,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "engine/key_units.hpp"
 #include "engine/runner_keys.hpp"
 #include "engine/scenario.hpp"
 
@@ -38,6 +39,7 @@ const ConfigSchema& ScenarioRegistry::schema(const std::string& name) const {
   schema->choice("scenario", name, {name}, "scenario name");
   scenario->keys(*schema);
   declare_runner_keys(*schema);
+  declare_key_units(*schema);
   return *schemas_.emplace(name, std::move(schema)).first->second;
 }
 

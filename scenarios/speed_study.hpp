@@ -167,6 +167,13 @@ void build_speed_study(Run& run, const std::vector<std::string>& species_names,
                    report.measured.rms, theory::rms_speed<D>(report.temperature, mass), report.chi_square,
                    report.chi_square_critical);
     } else {
+      // The columns of kinetic_energy_by_species, in species order.
+      std::string columns;
+      for (std::size_t s = 0; s < species; ++s) {
+        if (s) columns += ' ';
+        columns += species_names[s];
+      }
+      file.write_attribute("/observables/kinetic_energy_by_species", "columns", columns);
       for (std::size_t s = 0; s < species; ++s) {
         write_speed_histogram<D>(file, "speed_histogram_initial_" + species_names[s], initial->samples().speeds(s),
                                  species_mass[s], v_max, bins);
