@@ -44,16 +44,20 @@ bool finished(const SweepRun& run) {
 }
 
 // Scalar observables of a result file: /observables/NAME/value series with
-// one value per time, and numeric attributes of /observables.
+// one value per time, component k of a vector series as NAME[k], and numeric
+// attributes of /observables.
 std::vector<std::string> scalar_observables(const H5mdReader& reader) {
   std::vector<std::string> names;
   if (!reader.exists("/observables")) return names;
   for (const auto& name : reader.members("/observables")) {
     const std::string dataset = "/observables/" + name + "/value";
     if (!reader.exists(dataset)) continue;
-    const auto array = reader.doubles(dataset);
-    if (array.shape.size() <= 1 || (array.shape.front() > 0 && array.values.size() == array.shape.front()))
+    const auto shape = reader.doubles(dataset).shape;
+    if (shape.size() <= 1) {
       names.push_back(name);
+    } else if (shape.size() == 2) {
+      for (std::uint64_t k = 0; k < shape[1]; ++k) names.push_back(fmt::format("{}[{}]", name, k));
+    }
   }
   for (const auto& name : reader.attribute_names("/observables")) {
     try {
@@ -63,6 +67,13 @@ std::vector<std::string> scalar_observables(const H5mdReader& reader) {
     }
   }
   return names;
+}
+
+// "NAME[k]": the series NAME and component k; plain names have no component.
+std::pair<std::string, std::optional<std::size_t>> split_component(const std::string& name) {
+  const auto open = name.find('[');
+  if (open == std::string::npos || name.back() != ']') return {name, std::nullopt};
+  return {name.substr(0, open), static_cast<std::size_t>(std::stoul(name.substr(open + 1)))};
 }
 
 // Summary names are checked against the first result file at hand, so that a
@@ -78,20 +89,36 @@ void check_summary_names(const SweepPlan& plan, const std::filesystem::path& res
   }
 }
 
-// Last value of a scalar observable, or the attribute of that name on
-// /observables; NaN (with a warning) where this run's file lacks it.
+// Last value of a scalar observable (or of one component, NAME[k]), or the
+// attribute of that name on /observables; NaN (with a warning) where this
+// run's file lacks it.
 double summary_value(const H5mdReader& reader, const std::string& name, const std::string& path) {
-  const std::string dataset = "/observables/" + name + "/value";
+  const auto [series, component] = split_component(name);
+  const std::string dataset = "/observables/" + series + "/value";
   try {
     if (reader.exists(dataset)) {
       const auto array = reader.doubles(dataset);
-      return array.values.empty() ? std::nan("") : array.values.back();
+      if (array.values.empty()) return std::nan("");
+      if (!component) return array.values.back();
+      const std::size_t width = array.shape.size() == 2 ? array.shape[1] : 1;
+      if (*component >= width) return std::nan("");
+      return array.values[array.values.size() - width + *component];
     }
     return reader.double_attribute("/observables", name);
   } catch (const H5Error& error) {
     spdlog::warn("{}: summary observable '{}' not readable ({}); its entry is NaN", path, name, error.what());
     return std::nan("");
   }
+}
+
+// The unit of a summary observable as its result file gives it ("" if none).
+std::string summary_unit(const H5mdReader& reader, const std::string& name) {
+  const std::string dataset = "/observables/" + split_component(name).first + "/value";
+  try {
+    if (reader.exists(dataset)) return reader.string_attribute(dataset, "unit");
+  } catch (const H5Error&) {
+  }
+  return "";
 }
 
 std::string csv_field(const std::string& text) {
@@ -140,6 +167,7 @@ void write_h5_group(H5mdFile& file, const std::string& group, const std::vector<
 }
 
 void write_summary(const SweepPlan& plan, const std::vector<std::vector<double>>& values,
+                   const std::vector<std::string>& summary_units,
                    const std::vector<std::string>& status, const std::vector<std::string>& stop_reason) {
   const std::size_t points = plan.parameter_values.size();
   // Per run.
@@ -191,6 +219,13 @@ void write_summary(const SweepPlan& plan, const std::vector<std::vector<double>>
   file.write_attribute("/parameters", "scenario_file", plan.scenario_file.string());
   file.write_attribute("/parameters", "repeats", static_cast<double>(plan.repeats));
   file.write_text_array("/parameters", "swept_keys", plan.swept_keys);
+  // HDF5 lists datasets by name: the order of `summary` and the units are kept beside them.
+  file.write_text_array("/parameters", "summary", plan.summary);
+  file.write_text_array("/parameters", "summary_units", summary_units);
+  std::vector<std::string> key_units;
+  const ConfigSchema& schema = scenario_registry().schema(plan.scenario);
+  for (const auto& key : plan.swept_keys) key_units.push_back(schema.find(key) ? schema.find(key)->unit : "");
+  file.write_text_array("/parameters", "swept_key_units", key_units);
   write_h5_group(file, "/summary", summary);
   write_h5_group(file, "/runs", runs);
   file.finish();
@@ -278,16 +313,20 @@ int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
   std::vector<std::vector<double>> values(plan.runs.size(),
                                           std::vector<double>(plan.summary.size(), std::nan("")));
   std::vector<std::string> stop_reason(plan.runs.size());
+  std::vector<std::string> units;
   for (std::size_t k = 0; k < plan.runs.size(); ++k) {
     if (status[k] == "failed" || !std::filesystem::exists(plan.runs[k].output)) continue;
     const H5mdReader reader(plan.runs[k].output.string());
+    if (units.empty())
+      for (const auto& name : plan.summary) units.push_back(summary_unit(reader, name));
     try {
       stop_reason[k] = reader.string_attribute("/observables", "stop_reason");
     } catch (const H5Error&) {
     }
     for (std::size_t o = 0; o < plan.summary.size(); ++o) values[k][o] = summary_value(reader, plan.summary[o], plan.runs[k].output.string());
   }
-  write_summary(plan, values, status, stop_reason);
+  units.resize(plan.summary.size());
+  write_summary(plan, values, units, status, stop_reason);
   const auto failures = static_cast<std::size_t>(
       std::count_if(status.begin(), status.end(), [](const auto& s) { return s != "done"; }));
   spdlog::info("sweep finished: {} runs, {} newly run, {} not finished normally; summary in {}", plan.runs.size(),

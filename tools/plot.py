@@ -35,6 +35,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 
+def unit_of(f, path):
+    """The H5MD unit of a dataset, for axis labels ("" where it has none)."""
+    unit = f[path].attrs.get("unit", "") if path in f else ""
+    unit = text(unit) if unit else ""
+    return "" if unit in ("", "1") else f" [{unit}]"
+
+
 def scenario_of(f):
     value = f["/parameters"].attrs["scenario"]
     return value.decode() if isinstance(value, bytes) else str(value)
@@ -48,8 +55,8 @@ def save(fig, output):
 
 def label_speed_axes(*axes):
     for ax in axes:
-        ax.set_xlabel("speed v")
-        ax.set_ylabel("probability density")
+        ax.set_xlabel("speed v [L T-1]")
+        ax.set_ylabel("probability density [T L-1]")
 
 
 def plot_haff(f, output):
@@ -80,7 +87,7 @@ def plot_haff(f, output):
     bottom.semilogx(t, ratio / theory, "o", ms=3)
     bottom.axhline(1.0, color="k", lw=0.8)
     bottom.set_ylabel("T / Haff")
-    bottom.set_xlabel("t")
+    bottom.set_xlabel("t [T]")
     save(fig, output)
 
 
@@ -143,23 +150,28 @@ def plot_mixture(files, output):
         series.plot(time, species[:, 0], "--", color=colour, label=f"light, $\\xi$ = {xi:g}")
         series.plot(time, species[:, 1], ":", color=colour, label=f"heavy, $\\xi$ = {xi:g}")
         ratio.plot(time, species[:, 1] / species[:, 0], "-", color=colour, label=f"$\\xi$ = {xi:g}")
-    series.set_xlabel("t")
-    series.set_ylabel("mean kinetic energy per particle")
+    series.set_xlabel("t [T]")
+    series.set_ylabel("mean kinetic energy per particle [M L2 T-2]")
     series.set_yscale("log")
     series.legend(fontsize=7, ncol=2)
     ratio.axhline(1.0, color="k", lw=0.8)
-    ratio.set_xlabel("t")
+    ratio.set_xlabel("t [T]")
     ratio.set_ylabel("heavy / light mean kinetic energy")
     ratio.legend(fontsize=8)
-    f = files[0]
     for s, name in enumerate(("light", "heavy")):
         ax = axes[1, s]
-        draw_histogram(ax, f, f"speed_histogram_initial_{name}", dim, "t = 0", "C0", theory=False)
-        stats = draw_histogram(ax, f, f"speed_histogram_{name}", dim, "sampled", "C1")
-        ax.set_title(f"{name} (m = {float(stats['mass']):g}): mean speed {float(stats['mean_speed']):.3f}, "
-                     f"mean E {float(stats['mean_kinetic_energy']):.4f}", fontsize=9)
+        draw_histogram(ax, files[0], f"speed_histogram_initial_{name}", dim, "t = 0", "grey", theory=False)
+        lines = []
+        for k, f in enumerate(files):
+            xi = float(f["/parameters/collision"].attrs["restitution"])
+            stats = draw_histogram(ax, f, f"speed_histogram_{name}", dim, f"sampled, $\\xi$ = {xi:g}", f"C{k}")
+            lines.append(f"$\\xi$ = {xi:g}: mean speed {float(stats['mean_speed']):.3f}, "
+                         f"mean E {float(stats['mean_kinetic_energy']):.4f}")
+        ax.set_title(f"{name} (m = {float(stats['mass']):g}); dashed: Maxwell-Boltzmann", fontsize=9)
+        ax.text(0.98, 0.55, "\n".join(lines), transform=ax.transAxes, ha="right", fontsize=7)
         label_speed_axes(ax)
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=7)
+    f = files[0]
     fig.suptitle(f"two-mass mixture, {dim}D, N = {int(f['/parameters/system'].attrs['count'])}")
     save(fig, output)
 
@@ -169,7 +181,11 @@ def plot_scattering(files, output):
     ratio = f["/observables/impact_parameter_ratio"][()]
     fig, ax = plt.subplots(figsize=(6.4, 4.5))
     ax.plot(ratio, f["/observables/scattering_angle"][()], "o", ms=4, label="granflow EDMD")
-    ax.plot(ratio, f["/observables/scattering_angle_analytic"][()], "-", label="analytic")
+    if "analytic_curve_scattering_angle" in f["/observables"]:
+        ax.plot(f["/observables/analytic_curve_impact_parameter_ratio"][()],
+                f["/observables/analytic_curve_scattering_angle"][()], "-", label="analytic")
+    else:
+        ax.plot(ratio, f["/observables/scattering_angle_analytic"][()], "-", label="analytic (at the scan's points)")
     ax.set_xlabel("$b / R_{12}$")
     ax.set_ylabel("scattering angle [rad]")
     xi = float(f["/parameters/collision"].attrs["restitution"])
@@ -204,13 +220,17 @@ def plot_crater(files, output):
                      fontsize=10)
     ax = fig.add_subplot(1, 3, 3)
     time = f["/observables/crater_size/time"][()]
-    ax.plot(time, f["/observables/crater_size/value"][()], label="crater size [disks]")
-    ax.set_xlabel("t")
-    ax.set_ylabel("crater size [disks]")
+    ax.plot(time, f["/observables/crater_size/value"][()], "C0", label="crater size [disks]")
+    r0 = float(f["/parameters/derived"].attrs["bed_radius"])
+    ax.plot(time, f["/observables/projectile_depth/value"][()] / r0, "C3", label="projectile depth [bed radii]")
+    ax.set_xlabel("t [T]")
+    ax.set_ylabel("crater size [disks], projectile depth [bed radii]")
     twin = ax.twinx()
     e = f["/observables/kinetic_energy/value"][()]
-    twin.semilogy(time, e / e[0], "C2", label="E / E0")
+    twin.semilogy(time, e / e[0], "C2", label="kinetic energy / initial (right)")
     twin.set_ylabel("kinetic energy / initial", color="C2")
+    handles = ax.get_legend_handles_labels()[0] + twin.get_legend_handles_labels()[0]
+    ax.legend(handles, [h.get_label() for h in handles], fontsize=7, loc="center right")
     save(fig, output)
 
 
@@ -222,7 +242,14 @@ def plot_sweep(files, output, x_key=None, y_names=None, logx=False):
     if x_key not in summary:
         sys.exit(f"plot.py: '{x_key}' is not a swept key; swept: {', '.join(swept)}")
     x = np.array([float(text(v)) for v in summary[x_key][()]])
-    names = y_names or sorted(k[:-5] for k in summary if k.endswith("_mean"))
+    params = f["/parameters"]
+    ordered = [text(k) for k in params["summary"][()]] if "summary" in params else sorted(
+        k[:-5] for k in summary if k.endswith("_mean"))
+    units = dict(zip(ordered, [text(u) for u in params["summary_units"][()]])) if "summary_units" in params else {}
+    key_units = (dict(zip(swept, [text(u) for u in params["swept_key_units"][()]]))
+                 if "swept_key_units" in params else {})
+    bracket = lambda u: "" if u in ("", "1") else f" [{u}]"
+    names = y_names or ordered
     others = [k for k in swept if k != x_key]
     groups = {}
     for row in range(len(x)):
@@ -235,8 +262,8 @@ def plot_sweep(files, output, x_key=None, y_names=None, logx=False):
         for label, rows in groups.items():
             rows = sorted(rows, key=lambda r: x[r])
             ax.errorbar(x[rows], mean[rows], yerr=err[rows], fmt="o-", capsize=3, label=label or None)
-        ax.set_xlabel(x_key)
-        ax.set_ylabel(name)
+        ax.set_xlabel(x_key + bracket(key_units.get(x_key, "")))
+        ax.set_ylabel(name + bracket(units.get(name, "")))
         if logx:
             ax.set_xscale("log")
         if len(groups) > 1:
@@ -255,7 +282,9 @@ def series(f, name):
 def plot_msd(files, output):
     f = files[0]
     scenario = scenario_of(f)
-    fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.8))
+    has_eb = "ergodicity_breaking" in f["/observables"]
+    fig, axes = plt.subplots(1, 3 if has_eb else 2, figsize=(16 if has_eb else 11, 4.6))
+    left, middle = axes[0], axes[1]
     t, msd = series(f, "msd")
     _, err = series(f, "msd_stderr")
     _, theory = series(f, "msd_theory")
@@ -263,9 +292,9 @@ def plot_msd(files, output):
     left.loglog(t, theory, "k--", label="theory")
     if "time_averaged_msd" in f["/observables"]:
         lag, tamsd = series(f, "time_averaged_msd")
-        left.loglog(lag, tamsd, "s", ms=3, mfc="none", label="time-averaged MSD (against lag)")
-    left.set_xlabel("t (lag for the time average)")
-    left.set_ylabel("MSD")
+        left.loglog(lag, tamsd, "s", ms=3, mfc="none", label="time-averaged MSD (against the lag)")
+    left.set_xlabel("t, or the lag of the time average [T]")
+    left.set_ylabel("MSD" + unit_of(f, "/observables/msd/value"))
     derived = f["/parameters/derived"].attrs
     if scenario == "brownian_edmd":
         xi = float(f["/parameters/collision"].attrs["restitution"])
@@ -278,14 +307,20 @@ def plot_msd(files, output):
     left.set_title(title, fontsize=9)
     left.legend(fontsize=8)
     t, diffusivity = series(f, "diffusivity")
-    right.loglog(t, diffusivity, "o", ms=3, label="D(t) from the MSD (D = dMSD/dt / 2d)")
+    middle.loglog(t, diffusivity, "o", ms=3, label="from the MSD: D = (1/2d) dMSD/dt")
     if "diffusivity_theory" in f["/observables"]:
-        right.loglog(*series(f, "diffusivity_theory"), "k--", label="theory")
-    if "ergodicity_breaking" in f["/observables"]:
+        middle.loglog(*series(f, "diffusivity_theory"), "k--", label="theory (from its MSD)")
+    middle.set_xlabel("t [T]")
+    middle.set_ylabel("diffusivity D(t)" + unit_of(f, "/observables/diffusivity/value"))
+    middle.legend(fontsize=8)
+    if has_eb:
+        right = axes[2]
         lag, eb = series(f, "ergodicity_breaking")
-        right.loglog(lag, np.maximum(eb, 1e-6), "^", ms=3, mfc="none", label="ergodicity breaking EB (against lag)")
-    right.set_xlabel("t")
-    right.legend(fontsize=8)
+        right.semilogx(lag, eb, "^", ms=3, mfc="none", label="EB")
+        right.axhline(0.0, color="k", lw=0.8)
+        right.set_xlabel("lag [T]")
+        right.set_ylabel("ergodicity breaking parameter EB (dimensionless)")
+        right.set_title("EB = <(time-averaged MSD)^2> / <time-averaged MSD>^2 - 1: 0 when ergodic", fontsize=8)
     save(fig, output)
 
 
