@@ -215,6 +215,8 @@ def plot_crater(files, output):
         ax.set_xlim(0, 1)
         ax.set_ylim(0, 1)
         ax.set_aspect("equal")
+        ax.set_xlabel("x [L]")
+        ax.set_ylabel("y [L]")
         t = f["/particles/all/position/time"][()][0 if k == 0 else -1]
         ax.set_title(f"{title} (t = {t:.3g})" + (f": crater {int(moved[species == 0].sum())} disks" if k else ""),
                      fontsize=10)
