@@ -14,5 +14,8 @@ inline constexpr std::uint32_t melt_velocity = 5;    // velocities of the elasti
 inline constexpr std::uint32_t sde_noise = 6;        // Wiener increments of SDE stepping, keyed by step and particle
 inline constexpr std::uint32_t sde_initial = 7;      // initial velocities of SDE ensembles
 inline constexpr std::uint32_t run_seed = 8;         // seeds of the independent runs inside one scenario
+inline constexpr std::uint32_t srd_grid_shift = 9;   // the SRD grid's random shift, keyed by step
+inline constexpr std::uint32_t srd_rotation = 10;    // each SRD cell's rotation (sign or axis), keyed by step and cell
+inline constexpr std::uint32_t srd_initial = 11;     // initial positions and velocities of SRD particles
 
 }  // namespace granflow::stream

@@ -96,7 +96,8 @@ class AtSteps : public Trigger {
 // At steps 0, n, 2n, ...
 class EverySteps : public Trigger {
  public:
-  explicit EverySteps(std::int64_t n) : n_(n) {}
+  // Steps first, first + n, first + 2n, ...
+  explicit EverySteps(std::int64_t n, std::int64_t first = 0) : n_(n), next_(first) {}
   std::int64_t next_step() const override { return next_; }
   void pass(double, std::int64_t step) override {
     while (next_ <= step) next_ += n_;

@@ -1,0 +1,77 @@
+// Free cooling of the granular SRD fluid in a periodic box: the temperature
+// against Haff's law T0 / (1 + t/tau)^2 with the mean-field tau of
+// systems/srd/srd_theory.hpp, the convective energy, density fluctuations and
+// Mach number that show the onset of clustering (at lower restitution and
+// angle, e.g. srd.restitution = 0.98, srd.rotation_angle = 10), and the
+// Sonine coefficients of the velocity distribution.
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include "engine/run.hpp"
+#include "engine/scenario.hpp"
+#include "systems/srd/srd_setup.hpp"
+#include "systems/srd/srd_state_observer.hpp"
+#include "systems/srd/srd_theory.hpp"
+
+namespace granflow::scenarios {
+namespace {
+
+// Step 0, then `per_decade` log-spaced steps per decade up to `last` (included).
+std::vector<std::int64_t> log_steps(std::int64_t last, int per_decade) {
+  std::vector<std::int64_t> steps{0};
+  for (int k = 0;; ++k) {
+    const auto step = static_cast<std::int64_t>(std::llround(std::pow(10.0, static_cast<double>(k) / per_decade)));
+    if (step >= last) break;
+    if (step > steps.back()) steps.push_back(step);
+  }
+  steps.push_back(last);
+  return steps;
+}
+
+template <int D>
+void build(Run& run) {
+  const Config& c = run.config();
+  srd::add_srd_fluid<D>(run);
+  const auto n0 = static_cast<double>(c.integer("srd.particles_per_cell"));
+  const double tau = srd::gsrd_haff_time(D, srd::dissipation_from(c), c.real("srd.restitution"), c.real("srd.diameter"),
+                                         n0, c.real("srd.temperature"));
+  run.derive("haff_tau", tau);
+  run.derive("initial_temperature", c.real("srd.temperature"));
+  run.observe<srd::SrdStateObserver<D>>(
+      std::make_shared<AtSteps>(log_steps(c.integer("run.steps"), static_cast<int>(c.integer("output.points_per_decade")))));
+  run.at_finish([&run, tau](H5mdFile&, const RunOutcome&) {
+    const double t = run.clock().time;
+    spdlog::info("t = {:.4g} ({} steps): Haff's law predicts T/T0 = {:.4g}", t, run.clock().step,
+                 1.0 / ((1.0 + t / tau) * (1.0 + t / tau)));
+  });
+}
+
+}  // namespace
+
+GRANFLOW_REGISTER_SCENARIO(gsrd_cooling, Scenario{
+  .name = "gsrd_cooling",
+  .summary = "free cooling of granular SRD against Haff's law; clustering at low restitution",
+  .default_output = "gsrd_cooling.h5md",
+  .keys = [](ConfigSchema& s) {
+    srd::SrdDefaults d;
+    d.dimension = 3;
+    d.cells = {32, 32, 32};
+    d.particles_per_cell = 10;
+    d.angle = 20.0;
+    d.dt = 0.01;
+    d.temperature = 100.0;
+    d.restitution = 0.995;
+    d.diameter = 1.0;
+    d.steps = 20000;
+    srd::declare_srd_keys(s, d);
+    s.integer("output.points_per_decade", 20, 1, 1000, "outputs per decade of steps");
+  },
+  .build = [](Run& run) { run.config().integer("system.dimension") == 2 ? build<2>(run) : build<3>(run); },
+})
+
+}  // namespace granflow::scenarios

@@ -1,0 +1,83 @@
+// Shear viscosity of the stochastic rotation dynamics fluid: a periodic box
+// of cells sheared through Lees-Edwards planes, kept at its temperature by a
+// global thermostat; the measured kinetic and collisional viscosities against
+// the theory of Kikuchi et al. 2003 (systems/srd/srd_theory.hpp). The run
+// starts from the linear profile the planes drive, samples the stress every
+// step after `viscosity.warmup_steps` and reports the averages so far.
+
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <memory>
+#include <numbers>
+
+#include "engine/run.hpp"
+#include "engine/scenario.hpp"
+#include "engine/units.hpp"
+#include "systems/srd/shear_viscosity.hpp"
+#include "systems/srd/srd_setup.hpp"
+#include "systems/srd/srd_state_observer.hpp"
+#include "systems/srd/srd_theory.hpp"
+
+namespace granflow::scenarios {
+namespace {
+
+template <int D>
+void build(Run& run) {
+  const Config& c = run.config();
+  srd::add_srd_fluid<D>(run);
+  const double alpha = c.real("srd.rotation_angle") * std::numbers::pi / 180.0;
+  const auto n0 = static_cast<double>(c.integer("srd.particles_per_cell"));
+  const double dt = c.real("srd.time_step");
+  const double temperature = c.real("thermostat.temperature") > 0 ? c.real("thermostat.temperature") : c.real("srd.temperature");
+  run.derive("viscosity_kinetic_theory", srd::kinetic_viscosity(D, n0, alpha, temperature, dt));
+  run.derive("viscosity_collisional_theory", srd::collisional_viscosity(D, n0, alpha, dt));
+  const auto every = c.integer("output.every_steps");
+  const auto warmup = c.integer("viscosity.warmup_steps");
+  const auto cells = srd::cells_from<D>(c);
+  auto sums = std::make_shared<srd::ShearStress>(cells[1], dt, c.integer("viscosity.block_steps"));
+  run.keep("shear_stress", *sums);
+  run.observe<srd::ShearStressSampler<D>>(std::make_shared<EverySteps>(1, warmup + 1), sums);
+  const auto outputs = std::make_shared<EverySteps>(every);
+  run.observe<srd::SrdStateObserver<D>>(outputs);
+  run.observe<srd::ShearViscosityObserver<D>>(outputs, sums);
+  run.at_finish([sums, &run, n = static_cast<double>(run.world().size())](H5mdFile& file, const RunOutcome&) {
+    const double rate = sums->measured_shear_rate();
+    const auto nu = sums->viscosities(rate, n);
+    file.write_attribute("/observables", "viscosity_kinetic_mean", nu.kinetic);
+    file.write_attribute("/observables", "viscosity_kinetic_stderr", nu.kinetic_error);
+    file.write_attribute("/observables", "viscosity_collisional_mean", nu.collisional);
+    file.write_attribute("/observables", "viscosity_collisional_stderr", nu.collisional_error);
+    file.write_attribute("/observables", "shear_rate_mean", rate);
+    spdlog::info("shear rate {:.5g}: nu_kin = {:.5g} +- {:.2g} (theory {:.5g}), nu_coll = {:.5g} +- {:.2g} (theory {:.5g})",
+                 rate, nu.kinetic, nu.kinetic_error, run.derived("viscosity_kinetic_theory"), nu.collisional,
+                 nu.collisional_error, run.derived("viscosity_collisional_theory"));
+  });
+}
+
+}  // namespace
+
+GRANFLOW_REGISTER_SCENARIO(srd_viscosity, Scenario{
+  .name = "srd_viscosity",
+  .summary = "shear viscosity of the SRD fluid (Lees-Edwards shear, thermostat) against Kikuchi et al. 2003",
+  .default_output = "srd_viscosity.h5md",
+  .keys = [](ConfigSchema& s) {
+    srd::SrdDefaults d;
+    d.dimension = 2;
+    d.cells = {32, 32};
+    d.particles_per_cell = 5;
+    d.angle = 120.0;
+    d.dt = 1.0;
+    d.temperature = 0.8;
+    d.shear_rate = 2.0 / 32.0;
+    d.thermostat = 0.8;
+    d.steps = 20000;
+    srd::declare_srd_keys(s, d);
+    s.integer("output.every_steps", 500, 1, 1000000000, "steps between outputs")
+        .integer("viscosity.warmup_steps", 2000, 0, 1000000000, "steps before the stress is sampled")
+        .integer("viscosity.block_steps", 200, 1, 1000000000, "steps per block of the standard errors");
+  },
+  .build = [](Run& run) { run.config().integer("system.dimension") == 2 ? build<2>(run) : build<3>(run); },
+})
+
+}  // namespace granflow::scenarios

@@ -1,0 +1,43 @@
+#pragma once
+// The random shift of the SRD grid (Ihle & Kroll 2001): every step the cells
+// move by one vector uniform in [-1/2, 1/2)^D (in cell sizes), the same for
+// every particle, drawn from the run's seed and the step. Without it the
+// method is not Galilean invariant at small mean free paths.
+
+#include "components/clock.hpp"
+#include "engine/rng.hpp"
+#include "engine/stream_ids.hpp"
+#include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
+#include "engine/world.hpp"
+#include "systems/srd/srd_cells.hpp"
+
+namespace granflow::srd {
+
+inline const SystemDescription srd_grid_shift_description{
+    "srd_grid_shift", "random shift of the SRD grid in [-a/2, a/2)^d each step (Ihle-Kroll), keyed by seed and step"};
+
+template <int D>
+class SrdGridShift : public System {
+ public:
+  SrdGridShift(std::uint64_t seed, bool enabled) : seed_(seed), enabled_(enabled) {}
+
+  std::string name() const override { return "srd_grid_shift"; }
+  Access access() const override { return Access{}.reads<Clock>().template writes<SrdCells<D>>(); }
+
+  void run(World& world) override {
+    auto& cells = world.resource<SrdCells<D>>();
+    if (!enabled_) {
+      cells.shift.fill(0.0);
+      return;
+    }
+    Philox random(stream::srd_grid_shift, seed_, static_cast<std::uint64_t>(world.resource<Clock>().step), 0);
+    for (int a = 0; a < D; ++a) cells.shift[a] = random.uniform() - 0.5;
+  }
+
+ private:
+  std::uint64_t seed_;
+  bool enabled_;
+};
+
+}  // namespace granflow::srd

@@ -1,0 +1,215 @@
+#pragma once
+// Shear viscosity of a Lees-Edwards sheared SRD fluid, from the off-diagonal
+// stress split into its two parts (Kikuchi et al. 2003):
+//   kinetic, the x-momentum the streaming carries across planes of constant
+//   y: sigma_kin = -rho <dv_x dv_y> + rho (gamma_dot dt / 2) <dv_y^2>, with
+//   dv the velocity about the measured profile, just after the collision (a
+//   particle that crosses a plane going up started below it, where the flow
+//   is slower by gamma_dot times its distance: hence the second term, which
+//   is positive; the printed -1/2 of some derivations is a sign slip);
+//   collisional, the x-momentum the rotations move across such planes inside
+//   each cell: sigma_coll = -(1 / (V dt)) sum m (dv_x of the collision) (y - y_cell).
+// Each viscosity is sigma / (rho gamma_dot) with gamma_dot the slope of the
+// measured profile <v_x>(y), fitted away from the two slabs next to the
+// Lees-Edwards plane. The sampler runs every step after a warm-up; the
+// reporter writes the averages so far (with standard errors from blocks of
+// `block` steps) at output times.
+
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include "components/clock.hpp"
+#include "components/mass.hpp"
+#include "components/position.hpp"
+#include "components/velocity.hpp"
+#include "engine/deterministic_sum.hpp"
+#include "engine/observable_store.hpp"
+#include "engine/state_map.hpp"
+#include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
+#include "engine/units.hpp"
+#include "engine/world.hpp"
+#include "systems/srd/srd_cells.hpp"
+
+namespace granflow::srd {
+
+inline const SystemDescription sample_srd_stress_description{
+    "sample_srd_stress", "kinetic and collisional shear stress and the velocity profile of each step after the warm-up"};
+inline const SystemDescription observe_srd_viscosity_description{
+    "observe_srd_viscosity", "shear_rate_measured, viscosity_kinetic and viscosity_collisional so far, with standard errors"};
+
+// Sums over the sampled steps, and the same per block for the errors.
+class ShearStress : public Stateful {
+ public:
+  ShearStress(int slabs, double dt, std::int64_t block) : profile_(slabs, 0.0), counts_(slabs, 0.0), dt_(dt), block_(block) {}
+
+  // One step's per-particle means (mass-weighted) and the profile.
+  void add(double vxvy, double vy_y, double vy2, double mass, double transfer, const std::vector<double>& slab_vx,
+           const std::vector<double>& slab_count) {
+    const double values[5] = {vxvy, vy_y, vy2, mass, transfer};
+    for (int k = 0; k < 5; ++k) {
+      total_[k] += values[k];
+      block_sum_[k] += values[k];
+    }
+    for (std::size_t j = 0; j < profile_.size(); ++j) {
+      profile_[j] += slab_vx[j];
+      counts_[j] += slab_count[j];
+    }
+    ++samples_;
+    if (++in_block_ == block_) {
+      for (int k = 0; k < 5; ++k) blocks_.push_back(block_sum_[k] / static_cast<double>(block_));
+      for (double& s : block_sum_) s = 0.0;
+      in_block_ = 0;
+    }
+  }
+
+  std::int64_t samples() const { return samples_; }
+
+  // Least-squares slope of the slab means, leaving out the slab on each side of the shear plane.
+  double measured_shear_rate() const {
+    double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0;
+    for (std::size_t j = 1; j + 1 < profile_.size(); ++j) {
+      if (counts_[j] <= 0) continue;
+      const double y = static_cast<double>(j) + 0.5, u = profile_[j] / counts_[j];
+      sx += y;
+      sy += u;
+      sxx += y * y;
+      sxy += y * u;
+      n += 1;
+    }
+    const double denominator = n * sxx - sx * sx;
+    return denominator > 0 ? (n * sxy - sx * sy) / denominator : 0.0;
+  }
+
+  struct Viscosities {
+    double kinetic = 0, kinetic_error = 0, collisional = 0, collisional_error = 0;
+  };
+  // n: particles (the collisional transfer is a sum over them).
+  Viscosities viscosities(double rate, double particles) const {
+    Viscosities out;
+    if (samples_ == 0 || rate == 0.0) return out;
+    const auto kinetic = [&](const double* s) { return -(s[0] - rate * s[1]) / (s[3] * rate) + 0.5 * dt_ * s[2] / s[3]; };
+    const auto collisional = [&](const double* s) { return -s[4] / (particles * s[3] * dt_ * rate); };
+    double mean[5];
+    for (int k = 0; k < 5; ++k) mean[k] = total_[k] / static_cast<double>(samples_);
+    out.kinetic = kinetic(mean);
+    out.collisional = collisional(mean);
+    const std::size_t b = blocks_.size() / 5;
+    if (b >= 2) {
+      double sk = 0, skk = 0, sc = 0, scc = 0;
+      for (std::size_t k = 0; k < b; ++k) {
+        const double vk = kinetic(&blocks_[5 * k]), vc = collisional(&blocks_[5 * k]);
+        sk += vk;
+        skk += vk * vk;
+        sc += vc;
+        scc += vc * vc;
+      }
+      const double nb = static_cast<double>(b);
+      out.kinetic_error = std::sqrt(std::max(0.0, (skk / nb - (sk / nb) * (sk / nb)) / (nb - 1)));
+      out.collisional_error = std::sqrt(std::max(0.0, (scc / nb - (sc / nb) * (sc / nb)) / (nb - 1)));
+    }
+    return out;
+  }
+
+  StateMap save_state() const override {
+    StateMap out;
+    out["total"] = {total_, total_ + 5};
+    out["block_sum"] = {block_sum_, block_sum_ + 5};
+    out["blocks"] = blocks_;
+    out["profile"] = profile_;
+    out["counts"] = counts_;
+    out["counters"] = {static_cast<double>(samples_), static_cast<double>(in_block_)};
+    return out;
+  }
+  void restore_state(const StateMap& state) override {
+    const auto& total = state.at("total");
+    const auto& block_sum = state.at("block_sum");
+    const auto& counters = state.at("counters");
+    if (total.size() != 5 || block_sum.size() != 5 || counters.size() != 2 || state.at("blocks").size() % 5 != 0 ||
+        state.at("profile").size() != profile_.size() || state.at("counts").size() != counts_.size())
+      throw std::invalid_argument("checkpoint shear-stress sums have the wrong sizes");
+    std::copy(total.begin(), total.end(), total_);
+    std::copy(block_sum.begin(), block_sum.end(), block_sum_);
+    blocks_ = state.at("blocks");
+    profile_ = state.at("profile");
+    counts_ = state.at("counts");
+    samples_ = static_cast<std::int64_t>(counters[0]);
+    in_block_ = static_cast<std::int64_t>(counters[1]);
+  }
+
+ private:
+  double total_[5] = {0, 0, 0, 0, 0};
+  double block_sum_[5] = {0, 0, 0, 0, 0};
+  std::vector<double> blocks_;
+  std::vector<double> profile_, counts_;
+  double dt_;
+  std::int64_t block_;
+  std::int64_t samples_ = 0;
+  std::int64_t in_block_ = 0;
+};
+
+template <int D>
+class ShearStressSampler : public System {
+ public:
+  explicit ShearStressSampler(std::shared_ptr<ShearStress> sums) : sums_(std::move(sums)) {}
+
+  std::string name() const override { return "sample_srd_stress"; }
+  Access access() const override { return Access{}.reads<Position<D>, Velocity<D>, SrdCells<D>, Clock>(); }
+
+  void run(World& world) override {
+    const auto& cells = world.resource<SrdCells<D>>();
+    const auto& x = world.component<Position<D>>();
+    const auto& v = world.component<Velocity<D>>();
+    const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
+    const double m0 = cells.particle_mass;
+    const std::size_t n = world.size();
+    const auto m = [&](std::size_t i) { return mass ? mass[i] : m0; };
+    const double half = 0.5 * cells.length[1];
+    const double vxvy = deterministic_sum(n, [&](std::size_t i) { return m(i) * v[i][0] * v[i][1]; }) / n;
+    const double vy_y = deterministic_sum(n, [&](std::size_t i) { return m(i) * v[i][1] * (x[i][1] - half); }) / n;
+    const double vy2 = deterministic_sum(n, [&](std::size_t i) { return m(i) * v[i][1] * v[i][1]; }) / n;
+    const double mean_mass = deterministic_sum(n, m) / n;
+    const double transfer = deterministic_sum(cells.cell_count(), [&](std::size_t c) { return cells.transfer[c]; });
+    std::vector<double> slab_vx(static_cast<std::size_t>(cells.cells[1]), 0.0), slab_count(slab_vx.size(), 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto j = std::min(slab_vx.size() - 1, static_cast<std::size_t>(x[i][1]));
+      slab_vx[j] += v[i][0];
+      slab_count[j] += 1.0;
+    }
+    sums_->add(vxvy, vy_y, vy2, mean_mass, transfer, slab_vx, slab_count);
+  }
+
+ private:
+  std::shared_ptr<ShearStress> sums_;
+};
+
+template <int D>
+class ShearViscosityObserver : public System {
+ public:
+  explicit ShearViscosityObserver(std::shared_ptr<ShearStress> sums) : sums_(std::move(sums)) {}
+
+  std::string name() const override { return "observe_srd_viscosity"; }
+  Access access() const override {
+    return Access{}
+        .reads<Velocity<D>>()
+        .writes_observable("shear_rate_measured", unit::rate)
+        .writes_observable("viscosity_kinetic", unit::diffusivity)
+        .writes_observable("viscosity_collisional", unit::diffusivity);
+  }
+
+  void run(World& world) override {
+    if (sums_->samples() == 0) return;
+    auto& store = world.resource<ObservableStore>();
+    const double rate = sums_->measured_shear_rate();
+    const auto nu = sums_->viscosities(rate, static_cast<double>(world.size()));
+    store.set("shear_rate_measured", rate);
+    store.set("viscosity_kinetic", nu.kinetic);
+    store.set("viscosity_collisional", nu.collisional);
+  }
+
+ private:
+  std::shared_ptr<ShearStress> sums_;
+};
+
+}  // namespace granflow::srd

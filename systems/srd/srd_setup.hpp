@@ -1,0 +1,154 @@
+#pragma once
+// What every SRD scenario shares: its keys (declare_srd_keys), the initial
+// fluid (uniform positions, Maxwell-Boltzmann velocities about zero mean,
+// optionally the linear profile of the imposed shear) and the step chain:
+// streaming, grid shift, binning, cell reduction, rotation, thermostat.
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "components/clock.hpp"
+#include "components/position.hpp"
+#include "components/velocity.hpp"
+#include "engine/config.hpp"
+#include "engine/input_error.hpp"
+#include "engine/memory_check.hpp"
+#include "engine/rng.hpp"
+#include "engine/run.hpp"
+#include "engine/stream_ids.hpp"
+#include "engine/units.hpp"
+#include "systems/srd/cell_binning.hpp"
+#include "systems/srd/cell_reduction.hpp"
+#include "systems/srd/grid_shift.hpp"
+#include "systems/srd/rotation.hpp"
+#include "systems/srd/srd_cells.hpp"
+#include "systems/srd/streaming.hpp"
+#include "systems/srd/thermostat.hpp"
+
+namespace granflow::srd {
+
+struct SrdDefaults {
+  int dimension = 3;
+  std::vector<double> cells{32, 32, 32};
+  std::int64_t particles_per_cell = 10;
+  double angle = 90.0;
+  double dt = 1.0;
+  double temperature = 1.0;
+  double restitution = 1.0;
+  double diameter = 1.0;
+  double shear_rate = 0.0;
+  double thermostat = 0.0;
+  std::int64_t steps = 1000;
+};
+
+inline void declare_srd_keys(ConfigSchema& s, const SrdDefaults& d) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  s.integer("system.dimension", d.dimension, 2, 3, "2 or 3 dimensions")
+      .real_array("system.cells", d.cells, 2, 1e6, 2, 3, "cells per axis (one entry per dimension); lengths are in cell sizes a")
+      .integer("srd.particles_per_cell", d.particles_per_cell, 1, 100000, "mean particles per cell n0")
+      .real("srd.rotation_angle", d.angle, 0.0, 180.0, "rotation angle alpha in degrees")
+      .real("srd.time_step", d.dt, 0.0, inf, "time step dt between collisions", true)
+      .real("srd.temperature", d.temperature, 0.0, inf, "initial temperature kT (particle mass 1)", true)
+      .real("srd.restitution", d.restitution, 0.0, 1.0, "restitution eps of granular SRD; 1: standard SRD")
+      .real("srd.diameter", d.diameter, 0.0, inf, "particle diameter sigma in the effective restitution, in cell sizes")
+      .boolean("srd.grid_shift", true, "shift the grid at random every step (Galilean invariance)")
+      .choice("srd.dissipation", "rotated_plane", {"rotated_plane", "random_axis", "whole"},
+              "granular rule: scale the rotated thermal components (the rotation's plane; all in 2D), only along a "
+              "random axis, or the whole rotated velocity")
+      .integer("srd.reorder_interval", 50, 0, 1000000000, "steps between putting particles in cell order (0: never)")
+      .real("shear.rate", d.shear_rate, 0.0, inf, "shear rate du_x/dy through Lees-Edwards planes along y (0: none)")
+      .real("thermostat.temperature", d.thermostat, 0.0, inf, "target temperature of the global thermostat (0: none)")
+      .integer("run.steps", d.steps, 1, 1000000000000, "collision steps to run");
+  s.unit("srd.time_step", unit::time)
+      .unit("srd.temperature", unit::energy)
+      .unit("srd.diameter", unit::length)
+      .unit("srd.rotation_angle", "deg")
+      .unit("system.cells", unit::none)
+      .unit("shear.rate", unit::rate)
+      .unit("thermostat.temperature", unit::energy)
+      .unit("srd.restitution", unit::none);
+}
+
+inline Dissipation dissipation_from(const Config& c) {
+  const std::string& rule = c.text("srd.dissipation");
+  return rule == "random_axis" ? Dissipation::random_axis : rule == "whole" ? Dissipation::whole : Dissipation::rotated_plane;
+}
+
+template <int D>
+std::array<std::int32_t, D> cells_from(const Config& c) {
+  const auto& cells = c.reals("system.cells");
+  if (cells.size() != D)
+    throw ConfigError(fmt::format("system.cells has {} entries; system.dimension = {} needs {}", cells.size(), D, D));
+  std::array<std::int32_t, D> out{};
+  for (int a = 0; a < D; ++a) {
+    if (cells[a] != std::floor(cells[a]))
+      throw ConfigError(fmt::format("system.cells[{}] = {} is not a whole number of cells", a, cells[a]));
+    out[a] = static_cast<std::int32_t>(cells[a]);
+  }
+  return out;
+}
+
+inline RotationParameters rotation_from(const Config& c) {
+  return {c.real("srd.rotation_angle"), c.real("srd.restitution"), c.real("srd.diameter"), c.real("srd.time_step"),
+          dissipation_from(c)};
+}
+
+// The initial fluid, the cells resource, the box and the step chain.
+template <int D>
+void add_srd_fluid(Run& run) {
+  const Config& c = run.config();
+  const auto cells = cells_from<D>(c);
+  double cell_count = 1.0;
+  for (int a = 0; a < D; ++a) cell_count *= cells[a];
+  const double particles = cell_count * static_cast<double>(c.integer("srd.particles_per_cell"));
+  if (particles > 4.0e9)
+    throw ConfigError(fmt::format("{:.3g} particles (system.cells x srd.particles_per_cell) exceed the 2^32 a cell "
+                                  "index can count", particles));
+  // Position, velocity, cell, order; per cell six to eight doubles.
+  require_memory(fmt::format("{:.3g} SRD particles", particles),
+                 particles * (2.0 * 8.0 * D + 8.0) + cell_count * 8.0 * (D + 4.0));
+  const auto n = static_cast<std::size_t>(particles);
+  const double rate = c.real("shear.rate");
+  const double temperature = c.real("srd.temperature");
+  run.initial_state([&](World& world) {
+    world.resize(n);
+    auto& x = world.add_component<Position<D>>();
+    auto& v = world.add_component<Velocity<D>>();
+    Vec<D> mean = Vec<D>::Zero();
+    for (std::size_t i = 0; i < n; ++i) {
+      Philox random(stream::srd_initial, run.seed(), 0, i);
+      for (int a = 0; a < D; ++a) x[i][a] = random.uniform() * cells[a];
+      for (int a = 0; a < D; ++a) v[i][a] = std::sqrt(temperature) * random.normal();
+      mean += v[i];
+    }
+    mean /= static_cast<double>(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      v[i] -= mean;
+      // The profile the Lees-Edwards planes drive, so the run starts near its steady state.
+      if (rate > 0.0) v[i][0] += rate * (x[i][1] - 0.5 * cells[1]);
+    }
+  });
+  // The cells of the current state, so that observers at the start see them.
+  auto& state = run.world().template emplace_resource<SrdCells<D>>(cells, n);
+  SrdStreaming<D>::set_shear(state, rate, run.world().template resource<Clock>().time);
+  SrdCellBinning<D>::bin(run.world(), state);
+  SrdCellReduction<D>::reduce(run.world(), state);
+  std::vector<double> edges(cells.begin(), cells.end());
+  run.box(edges, std::vector<std::string>(D, "periodic"));
+  const double dt = c.real("srd.time_step");
+  run.step<SrdStreaming<D>>(dt, rate);
+  run.step<SrdGridShift<D>>(run.seed(), c.boolean("srd.grid_shift"));
+  run.step<SrdCellBinning<D>>(static_cast<std::uint64_t>(c.integer("srd.reorder_interval")));
+  run.step<SrdCellReduction<D>>();
+  run.step<SrdRotation<D>>(rotation_from(c), run.seed());
+  if (c.real("thermostat.temperature") > 0.0) run.step<SrdThermostat<D>>(c.real("thermostat.temperature"));
+  run.stop_at_step(c.integer("run.steps"));
+  run.finished_reason("reached run.steps");
+  run.rate("particle-steps/s", [&run, particles] { return particles * static_cast<double>(run.clock().step); });
+}
+
+}  // namespace granflow::srd

@@ -1,0 +1,107 @@
+#pragma once
+// The thermodynamic state of an SRD fluid, from the particles and this
+// step's cells:
+//   temperature                sum m |v - V_cell|^2 / (D (N - occupied cells)): thermal, about the local flow
+//   granular_temperature       sum m |v - <v>|^2 / (D N): about the global mean, the flow included
+//   convective_kinetic_energy  (1/N) sum_cells M_cell |V_cell|^2
+//   density_std                standard deviation of the particles per cell
+//   mach_number                sqrt(convective_kinetic_energy / temperature): 1 where the two cross
+//   sonine_a2, sonine_a3       Sonine coefficients of the distribution of v - <v>
+// All sums run in a fixed order, so the values do not depend on the thread count.
+
+#include <cmath>
+
+#include "components/mass.hpp"
+#include "components/position.hpp"
+#include "components/velocity.hpp"
+#include "engine/deterministic_sum.hpp"
+#include "engine/observable_store.hpp"
+#include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
+#include "engine/units.hpp"
+#include "engine/world.hpp"
+#include "systems/srd/srd_cells.hpp"
+
+namespace granflow::srd {
+
+inline const SystemDescription observe_srd_state_description{
+    "observe_srd_state", "temperature, granular temperature, convective energy, density fluctuations, Mach number, Sonine a2 and a3"};
+
+template <int D>
+class SrdStateObserver : public System {
+ public:
+  std::string name() const override { return "observe_srd_state"; }
+  Access access() const override {
+    return Access{}
+        .reads<Position<D>, Velocity<D>, SrdCells<D>>()
+        .writes_observable("temperature", unit::energy)
+        .writes_observable("granular_temperature", unit::energy)
+        .writes_observable("convective_kinetic_energy", unit::energy)
+        .writes_observable("density_std", unit::none)
+        .writes_observable("mach_number", unit::none)
+        .writes_observable("sonine_a2", unit::none)
+        .writes_observable("sonine_a3", unit::none);
+  }
+
+  void run(World& world) override {
+    const auto& cells = world.resource<SrdCells<D>>();
+    const auto& velocity = world.component<Velocity<D>>();
+    const auto& position = world.component<Position<D>>();
+    const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
+    const double m0 = cells.particle_mass;
+    const std::size_t n = world.size();
+    const auto m = [&](std::size_t i) { return mass ? mass[i] : m0; };
+    auto& store = world.resource<ObservableStore>();
+
+    const std::size_t c_count = cells.cell_count();
+    const double occupied = deterministic_sum(c_count, [&](std::size_t c) { return cells.particles_in(c) > 0 ? 1.0 : 0.0; });
+    const double thermal = deterministic_sum(c_count, [&](std::size_t c) {
+      double sum = 0.0;
+      for (std::uint32_t k = cells.start[c]; k < cells.start[c + 1]; ++k) {
+        const std::uint32_t i = cells.order[k];
+        Vec<D> u = velocity[i] - cells.velocity[c];
+        u[0] += image_velocity_x<D>(position[i].data(), cells.shift.data(), cells.length.data(), cells.shear);
+        sum += m(i) * u.squaredNorm();
+      }
+      return sum;
+    });
+    const double convective =
+        deterministic_sum(c_count, [&](std::size_t c) { return cells.mass[c] * cells.velocity[c].squaredNorm(); }) /
+        static_cast<double>(n);
+    const double mean_count = static_cast<double>(n) / static_cast<double>(c_count);
+    const double count_variance = deterministic_sum(c_count, [&](std::size_t c) {
+                                    const double d = cells.particles_in(c) - mean_count;
+                                    return d * d;
+                                  }) / static_cast<double>(c_count);
+    Vec<D> mean = Vec<D>::Zero();
+    double total_mass = 0.0;
+    for (int a = 0; a < D; ++a) mean[a] = deterministic_sum(n, [&](std::size_t i) { return m(i) * velocity[i][a]; });
+    total_mass = deterministic_sum(n, [&](std::size_t i) { return m(i); });
+    mean /= total_mass;
+    const double c2 = deterministic_sum(n, [&](std::size_t i) { return (velocity[i] - mean).squaredNorm(); }) / n;
+    const double c4 = deterministic_sum(n, [&](std::size_t i) {
+                        const double s = (velocity[i] - mean).squaredNorm();
+                        return s * s;
+                      }) / n;
+    const double c6 = deterministic_sum(n, [&](std::size_t i) {
+                        const double s = (velocity[i] - mean).squaredNorm();
+                        return s * s * s;
+                      }) / n;
+    const double granular =
+        deterministic_sum(n, [&](std::size_t i) { return m(i) * (velocity[i] - mean).squaredNorm(); }) / (D * static_cast<double>(n));
+    const double dof = D * (static_cast<double>(n) - occupied);
+    const double temperature = dof > 0 ? thermal / dof : 0.0;
+    const double d = D;
+    const double a2 = c2 > 0 ? d / (d + 2.0) * c4 / (c2 * c2) - 1.0 : 0.0;
+    const double a3 = c2 > 0 ? 1.0 + 3.0 * a2 - c6 / (c2 * c2 * c2) * d * d / ((d + 2.0) * (d + 4.0)) : 0.0;
+    store.set("temperature", temperature);
+    store.set("granular_temperature", granular);
+    store.set("convective_kinetic_energy", convective);
+    store.set("density_std", std::sqrt(count_variance));
+    store.set("mach_number", temperature > 0 ? std::sqrt(convective / temperature) : 0.0);
+    store.set("sonine_a2", a2);
+    store.set("sonine_a3", a3);
+  }
+};
+
+}  // namespace granflow::srd
