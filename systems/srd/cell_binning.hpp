@@ -8,6 +8,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <numeric>
 #include <vector>
 
@@ -65,11 +66,37 @@ class SrdCellBinning : public System {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) cell[i] = cell_of<D>(x + D * i, shift, length, count, shear);
     });
-    std::fill(cells.start.begin(), cells.start.end(), 0u);
-    for (std::size_t i = 0; i < n; ++i) ++cells.start[cell[i] + 1];
-    std::partial_sum(cells.start.begin(), cells.start.end(), cells.start.begin());
-    std::vector<std::uint32_t> next(cells.start.begin(), cells.start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) cells.order[next[cell[i]]++] = static_cast<std::uint32_t>(i);
+    // Counting sort in a fixed number of chunks (not one per thread, so the
+    // order is the same on any thread count): each chunk counts its particles
+    // per cell, the counts give each chunk its place in every cell, and each
+    // chunk then writes its particles there, in index order.
+    const std::size_t cell_count = cells.cell_count();
+    const std::size_t chunks = std::clamp<std::size_t>(n / (1u << 16), 1, 16);
+    const std::size_t per_chunk = (n + chunks - 1) / chunks;
+    cells.chunk_counts.assign(chunks * cell_count, 0u);
+    std::uint32_t* counts = cells.chunk_counts.data();
+    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
+      std::uint32_t* mine = counts + k * cell_count;
+      for (std::size_t i = k * per_chunk; i < std::min(n, (k + 1) * per_chunk); ++i) ++mine[cell[i]];
+    });
+    // Exclusive prefix over (cell, chunk): chunk k of cell c starts after all
+    // of cell c's earlier chunks.
+    std::uint32_t running = 0;
+    for (std::size_t c = 0; c < cell_count; ++c) {
+      cells.start[c] = running;
+      for (std::size_t k = 0; k < chunks; ++k) {
+        const std::uint32_t here = counts[k * cell_count + c];
+        counts[k * cell_count + c] = running;
+        running += here;
+      }
+    }
+    cells.start[cell_count] = running;
+    std::uint32_t* order = cells.order.data();
+    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
+      std::uint32_t* next = counts + k * cell_count;
+      for (std::size_t i = k * per_chunk; i < std::min(n, (k + 1) * per_chunk); ++i)
+        order[next[cell[i]]++] = static_cast<std::uint32_t>(i);
+    });
   }
 
  private:

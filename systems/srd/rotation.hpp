@@ -37,6 +37,8 @@ struct RotationParameters {
   double diameter = 0.0;     // sigma of the effective restitution, in cell sizes
   double dt = 1.0;
   Dissipation rule = Dissipation::rotated_plane;
+  // Sum each cell's collisional momentum transfer (for the shear stress).
+  bool record_transfer = false;
 };
 
 // The rotation of cell `c` at `step` (its random sign or axis, and the
@@ -104,7 +106,7 @@ class SrdRotation : public System {
           r.apply(u.data());
           Vec<D> after = mean + u;
           after[0] -= image;
-          if constexpr (D >= 2) {
+          if (D >= 2 && p_.record_transfer) {
             const double y = position[i][1] + cells.shift[1];
             transfer += (mass ? mass[i] : m0) * (after[0] - velocity[i][0]) * (y - std::floor(y) - 0.5);
           }

@@ -29,6 +29,7 @@ struct SrdCells {
   std::vector<std::uint32_t> cell;   // per particle
   std::vector<std::uint32_t> order;  // particle indices, cell by cell
   std::vector<std::uint32_t> start;  // per cell, and one past the last
+  std::vector<std::uint32_t> chunk_counts;  // the binning's scratch: per chunk, per cell
   std::vector<double> mass;          // per cell
   std::vector<Vec<D>> velocity;      // per cell: mean velocity V
   std::vector<double> theta;         // per cell: sum m |v - V|^2 / (D n)

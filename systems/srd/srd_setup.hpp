@@ -94,7 +94,7 @@ std::array<std::int32_t, D> cells_from(const Config& c) {
 
 inline RotationParameters rotation_from(const Config& c) {
   return {c.real("srd.rotation_angle"), c.real("srd.restitution"), c.real("srd.diameter"), c.real("srd.time_step"),
-          dissipation_from(c)};
+          dissipation_from(c), c.real("shear.rate") > 0.0};
 }
 
 // The initial fluid, the cells resource, the box and the step chain.
