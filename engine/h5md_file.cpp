@@ -336,6 +336,16 @@ void H5mdFile::append_observable_frame(const std::string& name, std::int64_t ste
   ++s.frames;
 }
 
+void H5mdFile::append_field(const std::string& name, std::int64_t step, double time,
+                            const std::vector<double>& values, const std::vector<hsize_t>& shape,
+                            const std::string& unit) {
+  Series& s = series("/fields/" + name, values.size(), shape, H5T_NATIVE_DOUBLE, unit, unit::time);
+  append_frame(s.step, H5T_NATIVE_INT64, s.frames, &step, {}, name + "/step");
+  append_frame(s.time, H5T_NATIVE_DOUBLE, s.frames, &time, {}, name + "/time");
+  append_frame(s.value, H5T_NATIVE_DOUBLE, s.frames, values.data(), s.shape, name + "/value");
+  ++s.frames;
+}
+
 void H5mdFile::write_observable_constant(const std::string& name, const std::vector<double>& value,
                                          const std::string& unit) {
   const hid_t observables = group("/observables");

@@ -46,6 +46,10 @@ class H5mdFile {
   void declare_unit(const std::string& observable, const std::string& unit) { units_[observable] = unit; }
   void append_observable(const std::string& name, std::int64_t step, double time, double value);
   void append_observable(const std::string& name, std::int64_t step, double time, const std::vector<double>& value);
+  // One frame of a field on a grid: /fields/NAME/{step,time,value}, value of
+  // `shape` per frame (e.g. cells z, y, x and components).
+  void append_field(const std::string& name, std::int64_t step, double time, const std::vector<double>& values,
+                    const std::vector<hsize_t>& shape, const std::string& unit);
   // A fixed, time-independent observable (a histogram's bin edges, a fitted constant).
   void write_observable_constant(const std::string& name, const std::vector<double>& value, const std::string& unit);
   void write_profile(const std::vector<ProfileEntry>& entries);

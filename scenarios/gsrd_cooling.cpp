@@ -14,6 +14,7 @@
 
 #include "engine/run.hpp"
 #include "engine/scenario.hpp"
+#include "systems/srd/srd_fields.hpp"
 #include "systems/srd/srd_setup.hpp"
 #include "systems/srd/srd_state_observer.hpp"
 #include "systems/srd/srd_theory.hpp"
@@ -37,6 +38,7 @@ template <int D>
 void build(Run& run) {
   const Config& c = run.config();
   srd::add_srd_fluid<D>(run);
+  srd::add_srd_fields<D>(run, srd::cells_from<D>(c));
   const auto n0 = static_cast<double>(c.integer("srd.particles_per_cell"));
   const double tau = srd::gsrd_haff_time(D, srd::dissipation_from(c), c.real("srd.restitution"), c.real("srd.diameter"),
                                          n0, c.real("srd.temperature"));

@@ -15,6 +15,7 @@
 #include "engine/scenario.hpp"
 #include "engine/units.hpp"
 #include "systems/srd/shear_viscosity.hpp"
+#include "systems/srd/srd_fields.hpp"
 #include "systems/srd/srd_setup.hpp"
 #include "systems/srd/srd_state_observer.hpp"
 #include "systems/srd/srd_theory.hpp"
@@ -26,6 +27,7 @@ template <int D>
 void build(Run& run) {
   const Config& c = run.config();
   srd::add_srd_fluid<D>(run);
+  srd::add_srd_fields<D>(run, srd::cells_from<D>(c));
   const double alpha = c.real("srd.rotation_angle") * std::numbers::pi / 180.0;
   const auto n0 = static_cast<double>(c.integer("srd.particles_per_cell"));
   const double dt = c.real("srd.time_step");
@@ -49,6 +51,9 @@ void build(Run& run) {
     file.write_attribute("/observables", "viscosity_collisional_mean", nu.collisional);
     file.write_attribute("/observables", "viscosity_collisional_stderr", nu.collisional_error);
     file.write_attribute("/observables", "shear_rate_mean", rate);
+    // Beside the measurements, so that a sweep's summary can collect them.
+    file.write_attribute("/observables", "viscosity_kinetic_theory", run.derived("viscosity_kinetic_theory"));
+    file.write_attribute("/observables", "viscosity_collisional_theory", run.derived("viscosity_collisional_theory"));
     spdlog::info("shear rate {:.5g}: nu_kin = {:.5g} +- {:.2g} (theory {:.5g}), nu_coll = {:.5g} +- {:.2g} (theory {:.5g})",
                  rate, nu.kinetic, nu.kinetic_error, run.derived("viscosity_kinetic_theory"), nu.collisional,
                  nu.collisional_error, run.derived("viscosity_collisional_theory"));

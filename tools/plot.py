@@ -251,7 +251,7 @@ def plot_sweep(files, output, x_key=None, y_names=None, logx=False):
     key_units = (dict(zip(swept, [text(u) for u in params["swept_key_units"][()]]))
                  if "swept_key_units" in params else {})
     bracket = lambda u: "" if u in ("", "1") else f" [{u}]"
-    names = y_names or ordered
+    names = y_names or [n for n in ordered if not (n.endswith("_theory") and n[:-7] in ordered)]
     others = [k for k in swept if k != x_key]
     groups = {}
     for row in range(len(x)):
@@ -263,12 +263,15 @@ def plot_sweep(files, output, x_key=None, y_names=None, logx=False):
         err = np.nan_to_num(summary[f"{name}_stderr"][()])
         for label, rows in groups.items():
             rows = sorted(rows, key=lambda r: x[r])
-            ax.errorbar(x[rows], mean[rows], yerr=err[rows], fmt="o-", capsize=3, label=label or None)
+            ax.errorbar(x[rows], mean[rows], yerr=err[rows], fmt="o", capsize=3, label=label or "measured")
+            if f"{name}_theory_mean" in summary:
+                ax.plot(x[rows], summary[f"{name}_theory_mean"][()][rows], "k--",
+                        label=f"theory{', ' + label if label else ''}")
         ax.set_xlabel(x_key + bracket(key_units.get(x_key, "")))
         ax.set_ylabel(name + bracket(units.get(name, "")))
         if logx:
             ax.set_xscale("log")
-        if len(groups) > 1:
+        if len(groups) > 1 or f"{name}_theory_mean" in summary:
             ax.legend(fontsize=8)
     runs = summary["runs"][()]
     scenario = text(f["/parameters"].attrs["swept_scenario"])
@@ -326,6 +329,65 @@ def plot_msd(files, output):
     save(fig, output)
 
 
+def plot_srd_viscosity(files, output):
+    f = files[0]
+    derived = f["/parameters/derived"].attrs
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.4))
+    for name, colour in (("viscosity_kinetic", "C0"), ("viscosity_collisional", "C1")):
+        t, nu = series(f, name)
+        left.plot(t, nu, "-", color=colour, label=name.replace("_", " ") + " (running mean)")
+        left.axhline(float(derived[name + "_theory"]), color=colour, ls="--", label="Kikuchi et al. 2003")
+    left.set_xlabel("t [T]")
+    left.set_ylabel("kinematic viscosity [L2 T-1]")
+    alpha = float(f["/parameters/srd"].attrs["rotation_angle"])
+    dim = int(f["/parameters/system"].attrs["dimension"])
+    left.set_title(f"SRD {dim}D, $\\alpha$ = {alpha:g} deg, n0 = {int(f['/parameters/srd'].attrs['particles_per_cell'])}",
+                   fontsize=10)
+    left.legend(fontsize=7)
+    t, T = series(f, "temperature")
+    right.plot(t, T, "-", label="temperature (about the cells' means)")
+    t, rate = series(f, "shear_rate_measured")
+    right.plot(t, rate / float(f["/parameters/shear"].attrs["rate"]), "-", label="measured / imposed shear rate")
+    right.set_xlabel("t [T]")
+    right.set_ylabel("kT [M L2 T-2]; shear-rate ratio")
+    right.legend(fontsize=8)
+    save(fig, output)
+
+
+def plot_gsrd_cooling(files, output):
+    f = files[0]
+    tau = float(f["/parameters/derived"].attrs["haff_tau"])
+    t, T = series(f, "granular_temperature")
+    _, E = series(f, "convective_kinetic_energy")
+    _, sigma = series(f, "density_std")
+    _, a2 = series(f, "sonine_a2")
+    _, mach = series(f, "mach_number")
+    T0 = T[0]
+    keep = t > 0
+    fig, axes = plt.subplots(2, 2, figsize=(11, 8))
+    ax = axes[0, 0]
+    ax.loglog(t[keep], T[keep] / T0, "o", ms=3, label="granular temperature T / T0")
+    ax.loglog(t[keep], E[keep] / T0, "s", ms=3, mfc="none", label="convective energy E_kin / T0")
+    ax.loglog(t[keep], 1 / (1 + t[keep] / tau) ** 2, "k--", label=f"Haff, mean-field $\\tau$ = {tau:.3g}")
+    ax.set_xlabel("t [T]")
+    ax.set_ylabel("energy / kT0")
+    ax.legend(fontsize=8)
+    axes[0, 1].semilogx(t[keep], sigma[keep] / sigma[0], "o-", ms=3)
+    axes[0, 1].set_xlabel("t [T]")
+    axes[0, 1].set_ylabel(r"$\sigma(\rho) / \sigma_0$ (particles per cell)")
+    axes[1, 0].semilogx(t[keep], a2[keep], "o-", ms=3)
+    axes[1, 0].axhline(0.0, color="k", lw=0.8)
+    axes[1, 0].set_xlabel("t [T]")
+    axes[1, 0].set_ylabel("Sonine coefficient a2")
+    axes[1, 1].loglog(t[keep], mach[keep], "o-", ms=3)
+    axes[1, 1].axhline(1.0, color="k", lw=0.8)
+    axes[1, 1].set_xlabel("t [T]")
+    axes[1, 1].set_ylabel("global Mach number")
+    eps = float(f["/parameters/srd"].attrs["restitution"])
+    fig.suptitle(f"granular SRD cooling, $\\epsilon$ = {eps:g}")
+    save(fig, output)
+
+
 PLOTTERS = {"haff_cooling": lambda files, output: plot_haff(files[0], output),
             "speed_distribution": plot_speed_distribution,
             "mixture": plot_mixture,
@@ -333,7 +395,9 @@ PLOTTERS = {"haff_cooling": lambda files, output: plot_haff(files[0], output),
             "crater_impact": plot_crater,
             "langevin_msd": plot_msd,
             "udsbm_msd": plot_msd,
-            "brownian_edmd": plot_msd}
+            "brownian_edmd": plot_msd,
+            "srd_viscosity": plot_srd_viscosity,
+            "gsrd_cooling": plot_gsrd_cooling}
 
 
 def main():

@@ -62,7 +62,10 @@ inline void declare_srd_keys(ConfigSchema& s, const SrdDefaults& d) {
       .integer("srd.reorder_interval", 50, 0, 1000000000, "steps between putting particles in cell order (0: never)")
       .real("shear.rate", d.shear_rate, 0.0, inf, "shear rate du_x/dy through Lees-Edwards planes along y (0: none)")
       .real("thermostat.temperature", d.thermostat, 0.0, inf, "target temperature of the global thermostat (0: none)")
-      .integer("run.steps", d.steps, 1, 1000000000000, "collision steps to run");
+      .integer("run.steps", d.steps, 1, 1000000000000, "collision steps to run")
+      .integer("fields.every_steps", 0, 0, 1000000000000,
+               "steps between density, velocity and temperature fields to /fields (0: none)")
+      .integer("fields.window", 10, 1, 1000000000000, "steps averaged into each field output");
   s.unit("srd.time_step", unit::time)
       .unit("srd.temperature", unit::energy)
       .unit("srd.diameter", unit::length)

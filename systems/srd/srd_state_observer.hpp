@@ -6,6 +6,7 @@
 //   convective_kinetic_energy  (1/N) sum_cells M_cell |V_cell|^2
 //   density_std                standard deviation of the particles per cell
 //   mach_number                sqrt(convective_kinetic_energy / temperature): 1 where the two cross
+//   mach_number_local          |V_cell| / sqrt(theta_cell / m), averaged over particles (cells of 2 or more)
 //   sonine_a2, sonine_a3       Sonine coefficients of the distribution of v - <v>
 // All sums run in a fixed order, so the values do not depend on the thread count.
 
@@ -39,6 +40,7 @@ class SrdStateObserver : public System {
         .writes_observable("convective_kinetic_energy", unit::energy)
         .writes_observable("density_std", unit::none)
         .writes_observable("mach_number", unit::none)
+        .writes_observable("mach_number_local", unit::none)
         .writes_observable("sonine_a2", unit::none)
         .writes_observable("sonine_a3", unit::none);
   }
@@ -99,6 +101,14 @@ class SrdStateObserver : public System {
     store.set("convective_kinetic_energy", convective);
     store.set("density_std", std::sqrt(count_variance));
     store.set("mach_number", temperature > 0 ? std::sqrt(convective / temperature) : 0.0);
+    double weighted = 0.0, weights = 0.0;
+    for (std::size_t c = 0; c < c_count; ++c) {
+      const double k = cells.particles_in(c);
+      if (k < 2 || cells.theta[c] <= 0) continue;
+      weighted += k * cells.velocity[c].norm() / std::sqrt(cells.theta[c] * k / cells.mass[c]);
+      weights += k;
+    }
+    store.set("mach_number_local", weights > 0 ? weighted / weights : 0.0);
     store.set("sonine_a2", a2);
     store.set("sonine_a3", a3);
   }

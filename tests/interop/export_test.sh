@@ -94,6 +94,38 @@ for name, d in (("haff", 3), ("crater", 2)):
     check("species" not in p or np.array_equal(attributes["species"], p["species"][()]), f"{name}.xdmf species")
 sys.exit(1 if bad else 0)
 PY
+# SRD fields: the XDMF written beside the result file describes /fields on
+# the cell grid; every attribute resolves to the field's frame.
+"$granflow" run "$scenarios/gsrd_cooling.toml" --set 'system.cells=[8,8,8]' --set run.steps=40 \
+  --set fields.every_steps=20 --set fields.window=5 -q -o "$work/gsrd.h5md" || exit 1
+/usr/bin/python3 - "$work" <<'PY' || failures=$((failures + 1))
+import os, sys, xml.etree.ElementTree as ET
+import h5py, numpy as np
+work = sys.argv[1]
+f = h5py.File(f"{work}/gsrd.h5md", "r")
+root = ET.parse(f"{work}/gsrd.fields.xdmf").getroot()
+grids = root.findall("./Domain/Grid/Grid")
+assert len(grids) == 2, f"{len(grids)} field frames, expected 2 (steps 20 and 40)"
+for k, grid in enumerate(grids):
+    assert grid.find("Topology").get("TopologyType") == "3DCoRectMesh"
+    assert grid.find("Topology").get("Dimensions") == "9 9 9"
+    assert float(grid.find("Time").get("Value")) == f["/fields/density/time"][k]
+    for attribute in grid.findall("Attribute"):
+        slab = attribute.find("DataItem")
+        spec, source = slab.findall("DataItem")
+        start, stride, count = np.array(spec.text.split(), dtype=int).reshape(3, -1)
+        file, dataset = source.text.strip().split(":")
+        data = h5py.File(os.path.join(work, file), "r")[dataset][()]
+        selected = data[tuple(slice(s, s + c * t, t) for s, c, t in zip(start, count, stride))]
+        name = attribute.get("Name")
+        assert np.array_equal(selected.reshape(data.shape[1:]), f[f"/fields/{name}/value"][k]), name
+# Every particle is in one cell of every sample: the density field sums to N.
+density = f["/fields/density/value"][()]
+n = 8 ** 3 * int(f["/parameters/srd"].attrs["particles_per_cell"])
+assert np.allclose(density.sum(axis=(1, 2, 3)), n), density.sum(axis=(1, 2, 3))
+print("ok: SRD fields and their XDMF read back (2 frames, density sums to N)")
+PY
+
 # A file without particle frames is refused, naming what to change.
 "$granflow" run "$scenarios/haff_cooling.toml" --set output.positions=none --set run.t_stop=0.1 -q -o "$work/none.h5md" || exit 1
 output=$("$granflow" export "$work/none.h5md" --format xyz 2>&1); status=$?

@@ -1,0 +1,205 @@
+#pragma once
+// Density, velocity and temperature fields of an SRD fluid on the unshifted
+// grid (cell k covers [k, k+1) along each axis), averaged over the last
+// `window` steps before each output and written to /fields/{density,
+// velocity,temperature}/{step,time,value} (value: cells z, y, x [, D]), with
+// an XDMF file beside the result file (OUTPUT.fields.xdmf) so that ParaView
+// opens the fields on their grid. The temperature of a cell is that of each
+// sampled step (about that step's cell mean), averaged.
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "components/clock.hpp"
+#include "components/mass.hpp"
+#include "components/position.hpp"
+#include "components/velocity.hpp"
+#include "engine/h5md_file.hpp"
+#include "engine/output_file.hpp"
+#include "engine/run.hpp"
+#include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
+#include "engine/units.hpp"
+#include "engine/world.hpp"
+#include "systems/srd/srd_cells.hpp"
+
+namespace granflow::srd {
+
+inline const SystemDescription write_srd_fields_description{
+    "write_srd_fields", "density, velocity and temperature fields on the unshifted grid, window-averaged, to /fields"};
+
+template <int D>
+class SrdFieldWriter : public System {
+ public:
+  SrdFieldWriter(std::array<std::int32_t, D> cells, std::int64_t every, std::int64_t window)
+      : cells_(cells), every_(every), window_(std::min(window, every)) {
+    std::size_t count = 1;
+    for (int a = 0; a < D; ++a) count *= static_cast<std::size_t>(cells[a]);
+    particles_.assign(count, 0.0);
+    momentum_.assign(count * D, 0.0);
+    theta_.assign(count, 0.0);
+    theta_samples_.assign(count, 0.0);
+    mass_total_.assign(count, 0.0);
+  }
+
+  std::string name() const override { return "write_srd_fields"; }
+  Access access() const override {
+    return Access{}.reads<Position<D>, Velocity<D>, Clock, SrdCells<D>>().template writes<OutputFile>();
+  }
+
+  void run(World& world) override {
+    const auto& clock = world.resource<Clock>();
+    const std::int64_t phase = clock.step % every_;
+    if (phase != 0 && phase <= every_ - window_) return;
+    sample(world);
+    if (phase != 0) return;
+    H5mdFile* file = world.resource<OutputFile>().file;
+    if (file) write(*file, clock.step, clock.time);
+    std::fill(particles_.begin(), particles_.end(), 0.0);
+    std::fill(momentum_.begin(), momentum_.end(), 0.0);
+    std::fill(theta_.begin(), theta_.end(), 0.0);
+    std::fill(theta_samples_.begin(), theta_samples_.end(), 0.0);
+    std::fill(mass_total_.begin(), mass_total_.end(), 0.0);
+    samples_ = 0;
+  }
+
+  // The XDMF description of the fields written so far, beside the result file.
+  void write_xdmf(const H5mdFile& file) const {
+    if (times_.empty()) return;
+    const std::string xdmf = std::filesystem::path(file.path()).replace_extension(".fields.xdmf").string();
+    const std::string h5 = std::filesystem::path(file.path()).filename().string();
+    std::string cells_zyx, nodes_zyx;
+    for (int a = D - 1; a >= 0; --a) {
+      cells_zyx += fmt::format("{}{}", a == D - 1 ? "" : " ", cells_[a]);
+      nodes_zyx += fmt::format("{}{}", a == D - 1 ? "" : " ", cells_[a] + 1);
+    }
+    const std::string origin = D == 3 ? "0 0 0" : "0 0", spacing = D == 3 ? "1 1 1" : "1 1";
+    std::string text = "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n"
+                       "    <Grid Name=\"fields\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    const std::size_t frames = times_.size();
+    for (std::size_t f = 0; f < frames; ++f) {
+      text += fmt::format("    <Grid Name=\"frame {}\" GridType=\"Uniform\">\n      <Time Value=\"{:.17g}\"/>\n", f, times_[f]);
+      text += fmt::format("      <Topology TopologyType=\"{}\" Dimensions=\"{}\"/>\n", D == 3 ? "3DCoRectMesh" : "2DCoRectMesh",
+                          nodes_zyx);
+      text += fmt::format("      <Geometry GeometryType=\"{}\">\n"
+                          "        <DataItem Dimensions=\"{}\" Format=\"XML\">{}</DataItem>\n"
+                          "        <DataItem Dimensions=\"{}\" Format=\"XML\">{}</DataItem>\n      </Geometry>\n",
+                          D == 3 ? "ORIGIN_DXDYDZ" : "ORIGIN_DXDY", D, origin, D, spacing);
+      for (const auto& [field, components] : {std::pair{"density", 1}, {"velocity", D}, {"temperature", 1}}) {
+        const std::string dims = components > 1 ? fmt::format("{} {}", cells_zyx, components) : cells_zyx;
+        const int rank = D + (components > 1 ? 1 : 0) + 1;
+        std::string start = std::to_string(f), stride = "1", count = "1";
+        for (int r = 1; r < rank; ++r) {
+          start += " 0";
+          stride += " 1";
+        }
+        count += " " + dims;
+        text += fmt::format(
+            "      <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Cell\">\n"
+            "        <DataItem ItemType=\"HyperSlab\" Dimensions=\"{}\">\n"
+            "          <DataItem Dimensions=\"3 {}\" Format=\"XML\">{} {} {}</DataItem>\n"
+            "          <DataItem Dimensions=\"{} {}\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:/fields/{}/value</DataItem>\n"
+            "        </DataItem>\n      </Attribute>\n",
+            field, components > 1 ? (D == 3 ? "Vector" : "Matrix") : "Scalar", dims, rank, start, stride, count,
+            frames, dims, h5, field);
+      }
+      text += "    </Grid>\n";
+    }
+    text += "    </Grid>\n  </Domain>\n</Xdmf>\n";
+    const std::string partial = xdmf + ".partial";
+    {
+      std::ofstream out(partial);
+      out << text;
+      if (!out.flush()) throw std::runtime_error("cannot write " + partial);
+    }
+    std::filesystem::rename(partial, xdmf);
+  }
+
+ private:
+  std::uint32_t grid_cell(const Vec<D>& x) const {
+    std::uint32_t index = 0;
+    for (int a = D - 1; a >= 0; --a) {
+      auto c = static_cast<std::int64_t>(std::floor(x[a]));
+      c = std::min<std::int64_t>(std::max<std::int64_t>(c, 0), cells_[a] - 1);
+      index = index * static_cast<std::uint32_t>(cells_[a]) + static_cast<std::uint32_t>(c);
+    }
+    return index;
+  }
+
+  void sample(const World& world) {
+    const auto& x = world.component<Position<D>>();
+    const auto& v = world.component<Velocity<D>>();
+    const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
+    const double m0 = world.resource<SrdCells<D>>().particle_mass;
+    const std::size_t count = particles_.size();
+    std::vector<double> n(count, 0.0), m(count, 0.0), p(count * D, 0.0), e(count, 0.0);
+    for (std::size_t i = 0; i < world.size(); ++i) {
+      const std::uint32_t c = grid_cell(x[i]);
+      const double mi = mass ? mass[i] : m0;
+      n[c] += 1;
+      m[c] += mi;
+      for (int a = 0; a < D; ++a) p[c * D + a] += mi * v[i][a];
+      e[c] += mi * v[i].squaredNorm();
+    }
+    for (std::size_t c = 0; c < count; ++c) {
+      particles_[c] += n[c];
+      for (int a = 0; a < D; ++a) momentum_[c * D + a] += p[c * D + a];
+      if (n[c] > 0 && m[c] > 0) {
+        double p2 = 0;
+        for (int a = 0; a < D; ++a) p2 += p[c * D + a] * p[c * D + a];
+        theta_[c] += (e[c] - p2 / m[c]) / (D * n[c]);
+        theta_samples_[c] += 1;
+      }
+      mass_total_[c] += m[c];
+    }
+    ++samples_;
+  }
+
+  void write(H5mdFile& file, std::int64_t step, double time) {
+    if (samples_ == 0) return;
+    const std::size_t count = particles_.size();
+    std::vector<double> density(count), velocity(count * D, 0.0), temperature(count);
+    for (std::size_t c = 0; c < count; ++c) {
+      density[c] = particles_[c] / samples_;
+      temperature[c] = theta_samples_[c] > 0 ? theta_[c] / theta_samples_[c] : 0.0;
+      for (int a = 0; a < D; ++a) velocity[c * D + a] = mass_total_[c] > 0 ? momentum_[c * D + a] / mass_total_[c] : 0.0;
+    }
+    std::vector<hsize_t> shape;
+    for (int a = D - 1; a >= 0; --a) shape.push_back(static_cast<hsize_t>(cells_[a]));
+    std::vector<hsize_t> vector_shape = shape;
+    vector_shape.push_back(D);
+    file.append_field("density", step, time, density, shape, "L-" + std::to_string(D));
+    file.append_field("velocity", step, time, velocity, vector_shape, unit::velocity);
+    file.append_field("temperature", step, time, temperature, shape, unit::energy);
+    times_.push_back(time);
+  }
+
+  std::array<std::int32_t, D> cells_;
+  std::int64_t every_;
+  std::int64_t window_;
+  std::vector<double> particles_, momentum_, theta_, theta_samples_, mass_total_;
+  std::int64_t samples_ = 0;
+  std::vector<double> times_;
+};
+
+// Fields every `fields.every_steps` steps (0: none), averaged over `fields.window` steps.
+template <int D>
+void add_srd_fields(Run& run, std::array<std::int32_t, D> cells) {
+  const Config& c = run.config();
+  const auto every = c.integer("fields.every_steps");
+  if (every <= 0) return;
+  if (run.resuming())
+    spdlog::warn("fields written before the checkpoint are not carried over, nor the window being averaged");
+  auto& writer = run.observe<SrdFieldWriter<D>>(std::make_shared<EverySteps>(1, 1), cells, every,
+                                                c.integer("fields.window"));
+  run.at_finish([&writer](H5mdFile& file, const RunOutcome&) { writer.write_xdmf(file); });
+}
+
+}  // namespace granflow::srd
