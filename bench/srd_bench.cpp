@@ -9,10 +9,12 @@
 // 260 B per particle-step.
 //
 //   build/bench/srd_bench
+//   SRD_REORDER=1 build/bench/srd_bench   # particles in cell order every step
 
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
+#include <cstdlib>
 #include <memory>
 #include <vector>
 
@@ -30,6 +32,12 @@ namespace {
 using namespace granflow;
 
 constexpr int side = 46;
+
+// SRD_REORDER sets the steps between reorderings (default 20).
+std::uint64_t reorder_interval() {
+  const char* text = std::getenv("SRD_REORDER");
+  return text ? std::strtoull(text, nullptr, 10) : 20;
+}
 constexpr std::size_t per_cell = 10;
 
 struct Fluid {
@@ -51,7 +59,7 @@ struct Fluid {
     p.angle_degrees = 130.0;
     stages.push_back(std::make_unique<srd::SrdStreaming<3>>(1.0, 0.0));
     stages.push_back(std::make_unique<srd::SrdGridShift<3>>(1, true));
-    stages.push_back(std::make_unique<srd::SrdCellBinning<3>>(20));
+    stages.push_back(std::make_unique<srd::SrdCellBinning<3>>(reorder_interval()));
     stages.push_back(std::make_unique<srd::SrdCellReduction<3>>());
     stages.push_back(std::make_unique<srd::SrdRotation<3>>(p, 1));
   }
