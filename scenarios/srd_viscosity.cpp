@@ -5,12 +5,14 @@
 // starts from the linear profile the planes drive, samples the stress every
 // step after `viscosity.warmup_steps` and reports the averages so far.
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <cmath>
 #include <memory>
 #include <numbers>
 
+#include "engine/input_error.hpp"
 #include "engine/run.hpp"
 #include "engine/scenario.hpp"
 #include "engine/units.hpp"
@@ -26,6 +28,11 @@ namespace {
 template <int D>
 void build(Run& run) {
   const Config& c = run.config();
+  if (c.real("shear.rate") <= 0.0)
+    throw ConfigError("srd_viscosity measures the response to shear: shear.rate must be > 0 (it is 0)");
+  if (c.integer("viscosity.warmup_steps") >= c.integer("run.steps"))
+    throw ConfigError(fmt::format("viscosity.warmup_steps = {} leaves no step to sample before run.steps = {}",
+                                  c.integer("viscosity.warmup_steps"), c.integer("run.steps")));
   srd::add_srd_fluid<D>(run);
   srd::add_srd_fields<D>(run, srd::cells_from<D>(c));
   const double alpha = c.real("srd.rotation_angle") * std::numbers::pi / 180.0;
