@@ -12,7 +12,6 @@
 #include <memory>
 #include <numbers>
 
-#include "engine/input_error.hpp"
 #include "engine/run.hpp"
 #include "engine/scenario.hpp"
 #include "engine/units.hpp"

@@ -41,33 +41,42 @@ struct RotationParameters {
   bool record_transfer = false;
 };
 
-// The rotation of cell `c` at `step` (its random sign or axis, and the
-// dissipation axis), before the granular factor is set.
+// What every cell's rotation shares: the angle's cosine and sine (computed
+// once, not per cell and step) and the dissipation rule.
 template <int D>
-CellRotation<D> cell_rotation(const RotationParameters& p, std::uint64_t seed, std::uint64_t step, std::uint64_t c) {
+CellRotation<D> rotation_base(const RotationParameters& p) {
   CellRotation<D> r;
   const double alpha = p.angle_degrees * std::numbers::pi / 180.0;
-  Philox random(stream::srd_rotation, seed, step, c);
   r.cos_alpha = std::cos(alpha);
+  r.sin_alpha = std::sin(alpha);
+  r.rule = p.rule;
+  return r;
+}
+
+// The rotation of cell `c` at `step`: its random sign (2D) or axis (3D), and
+// the dissipation axis, before the granular factor is set.
+template <int D>
+CellRotation<D> cell_rotation(const CellRotation<D>& base, std::uint64_t seed, std::uint64_t step, std::uint64_t c) {
+  CellRotation<D> r = base;
+  Philox random(stream::srd_rotation, seed, step, c);
   if constexpr (D == 2) {
-    r.sin_alpha = random.uniform() < 0.5 ? std::sin(alpha) : -std::sin(alpha);
+    if (random.uniform() >= 0.5) r.sin_alpha = -r.sin_alpha;
   } else {
-    r.sin_alpha = std::sin(alpha);
     const double u1 = random.uniform(), u2 = random.uniform();
     unit_vector<3>(u1, u2, r.axis);
   }
-  if (p.rule == Dissipation::random_axis) {
+  if (r.rule == Dissipation::random_axis) {
     const double u1 = random.uniform(), u2 = random.uniform();
     unit_vector<D>(u1, u2, r.direction);
   }
-  r.rule = p.rule;
   return r;
 }
 
 template <int D>
 class SrdRotation : public System {
  public:
-  SrdRotation(RotationParameters parameters, std::uint64_t seed) : p_(parameters), seed_(seed) {}
+  SrdRotation(RotationParameters parameters, std::uint64_t seed)
+      : p_(parameters), base_(rotation_base<D>(parameters)), seed_(seed) {}
 
   std::string name() const override { return "srd_rotation"; }
   Access access() const override {
@@ -89,7 +98,7 @@ class SrdRotation : public System {
         const std::uint32_t begin = cells.start[c], end = cells.start[c + 1];
         cells.transfer[c] = 0.0;
         if (end - begin < 2) continue;  // one particle has no thermal velocity
-        CellRotation<D> r = cell_rotation<D>(p_, seed_, step, c);
+        CellRotation<D> r = cell_rotation<D>(base_, seed_, step, c);
         if (granular) {
           bool below_zero = false;
           r.eps = effective_restitution(p_.restitution, p_.diameter, static_cast<double>(end - begin), cells.theta[c],
@@ -133,6 +142,7 @@ class SrdRotation : public System {
 
  private:
   RotationParameters p_;
+  CellRotation<D> base_;
   std::uint64_t seed_;
   std::uint64_t total_clamped_ = 0;
   bool warned_ = false;

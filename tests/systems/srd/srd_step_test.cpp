@@ -91,7 +91,7 @@ TEST(SrdCell, GranularRuleScalesTheRotatedThermalPartByEpsEffSquared) {
   p.restitution = 0.9;
   p.diameter = 0.2;
   p.dt = 0.1;
-  const CellRotation<3> r = cell_rotation<3>(p, 7, 0, 0);
+  const CellRotation<3> r = cell_rotation<3>(rotation_base<3>(p), 7, 0, 0);
   const Vec<3> axis(r.axis[0], r.axis[1], r.axis[2]);
   const Vec<3> mean = cells.velocity[0];
   bool clamped = false;
