@@ -58,6 +58,13 @@ std::string read_string_attribute_of(hid_t object, const std::string& name, cons
   return out.substr(0, out.find('\0'));
 }
 
+// HDF5 iteration callback (links or attributes) that collects the names.
+template <class Info>
+herr_t append_name(hid_t, const char* name, const Info*, void* names) {
+  static_cast<std::vector<std::string>*>(names)->emplace_back(name);
+  return 0;
+}
+
 struct VisitState {
   std::string text;
 };
@@ -214,22 +221,15 @@ std::int64_t H5mdReader::integer_attribute(const std::string& object_path, const
 std::vector<std::string> H5mdReader::members(const std::string& group_path) const {
   H5Handle group(H5Gopen2(file_, group_path.c_str(), H5P_DEFAULT), H5Gclose, "open " + group_path);
   std::vector<std::string> names;
-  const auto collect = [](hid_t, const char* name, const H5L_info_t*, void* out) -> herr_t {
-    static_cast<std::vector<std::string>*>(out)->emplace_back(name);
-    return 0;
-  };
-  h5_check(H5Literate(group, H5_INDEX_NAME, H5_ITER_INC, nullptr, collect, &names), "list " + group_path);
+  h5_check(H5Literate(group, H5_INDEX_NAME, H5_ITER_INC, nullptr, append_name<H5L_info_t>, &names),
+           "list " + group_path);
   return names;
 }
 
 std::vector<std::string> H5mdReader::attribute_names(const std::string& object_path) const {
   H5Handle object(H5Oopen(file_, object_path.c_str(), H5P_DEFAULT), H5Oclose, "open " + object_path);
   std::vector<std::string> names;
-  const auto collect = [](hid_t, const char* name, const H5A_info_t*, void* out) -> herr_t {
-    static_cast<std::vector<std::string>*>(out)->emplace_back(name);
-    return 0;
-  };
-  h5_check(H5Aiterate2(object, H5_INDEX_NAME, H5_ITER_INC, nullptr, collect, &names),
+  h5_check(H5Aiterate2(object, H5_INDEX_NAME, H5_ITER_INC, nullptr, append_name<H5A_info_t>, &names),
            "list attributes of " + object_path);
   return names;
 }
