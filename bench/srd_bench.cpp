@@ -54,7 +54,8 @@ struct Fluid {
       for (int a = 0; a < 3; ++a) x[i][a] = random.uniform() * side;
       for (int a = 0; a < 3; ++a) v[i][a] = random.normal();
     }
-    world.emplace_resource<srd::SrdCells<3>>(std::array<std::int32_t, 3>{side, side, side}, n);
+    auto& cells = world.emplace_resource<srd::SrdCells<3>>(std::array<std::int32_t, 3>{side, side, side}, n);
+    srd::SrdCellBinning<3>::sort(world, cells);  // as the scenarios start
     srd::RotationParameters p;
     p.angle_degrees = 130.0;
     stages.push_back(std::make_unique<srd::SrdStreaming<3>>(1.0, 0.0));

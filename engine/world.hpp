@@ -9,6 +9,8 @@
 // one that nobody asks for is carried through permutations and into the next
 // checkpoint as it is.
 
+#include <tbb/parallel_for.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -63,7 +65,9 @@ struct Column : ColumnBase {
   void resize(std::size_t count) override { values.resize(count); }
   void permute(const std::vector<std::uint32_t>& order) override {
     std::vector<T> reordered(order.size());
-    for (std::size_t k = 0; k < order.size(); ++k) reordered[k] = values[order[k]];
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1u << 14), [&](const auto& range) {
+      for (std::size_t k = range.begin(); k != range.end(); ++k) reordered[k] = values[order[k]];
+    });
     values.swap(reordered);
   }
   std::size_t bytes_per_entity() const override { return sizeof(T); }

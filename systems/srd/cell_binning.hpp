@@ -1,14 +1,18 @@
 #pragma once
-// Which SRD cell each particle is in, by counting sort: the cell of every
-// particle (parallel), the number per cell, their prefix sum, then the
-// particle indices cell by cell in index order (so the result does not
-// depend on the thread count). Every `reorder_interval` steps the particle
-// columns themselves are put in cell order (World::permute, which tells
-// every listener), so that the cells' particles lie together in memory.
+// Which SRD cell each particle is in, every step: the cell of every particle
+// and, per block of consecutive particles, the range of cells the block
+// touches (srd_cells.hpp says why). Every `reorder_interval` steps the
+// particle columns are put in cell order by a counting sort (count, prefix
+// sum, fill; in a fixed number of chunks, so the order does not depend on
+// the thread count) and World::permute, which tells every listener: then
+// each block touches few cells and a cell's particles lie together in
+// memory. Sorting every step would move all particle data every step, for
+// locality that the few steps in between barely lose.
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <numeric>
 #include <vector>
 
@@ -22,7 +26,7 @@
 namespace granflow::srd {
 
 inline const SystemDescription srd_cell_binning_description{
-    "srd_cell_binning", "particles into the shifted SRD cells by counting sort; particle columns in cell order every k steps"};
+    "srd_cell_binning", "the shifted SRD cell of every particle; particle columns in cell order every k steps (counting sort)"};
 
 template <int D>
 class SrdCellBinning : public System {
@@ -41,35 +45,58 @@ class SrdCellBinning : public System {
 
   void run(World& world) override {
     auto& cells = world.resource<SrdCells<D>>();
-    bin(world, cells);
     const auto step = static_cast<std::uint64_t>(world.resource<Clock>().step);
-    if (reorder_interval_ > 0 && step % reorder_interval_ == 0) {
-      world.permute(cells.order);
-      // Particle k is now the one that was order[k]: the cells follow.
-      std::vector<std::uint32_t> moved(cells.cell.size());
-      for (std::size_t k = 0; k < moved.size(); ++k) moved[k] = cells.cell[cells.order[k]];
-      cells.cell.swap(moved);
-      std::iota(cells.order.begin(), cells.order.end(), 0u);
-    }
+    if (reorder_interval_ > 0 && step % reorder_interval_ == 0) sort(world, cells);
+    else assign(world, cells);
   }
 
-  static void bin(const World& world, SrdCells<D>& cells) {
+  // The cell of every particle and the cells of every block.
+  static void assign(const World& world, SrdCells<D>& cells) {
     const double* x = world.component<Position<D>>().data()->data();
     const std::size_t n = world.size();
+    const std::size_t block = SrdCells<D>::block_size;
     cells.cell.resize(n);
-    cells.order.resize(n);
+    cells.image.resize(D >= 2 && cells.shear.velocity != 0.0 ? n : 0);
+    cells.blocks.resize((n + block - 1) / block);
     std::uint32_t* cell = cells.cell.data();
+    std::int8_t* image = cells.image.empty() ? nullptr : cells.image.data();
     const double* shift = cells.shift.data();
     const double* length = cells.length.data();
     const std::int32_t* count = cells.cells.data();
     const Shear shear = cells.shear;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
-      for (std::size_t i = range.begin(); i != range.end(); ++i) cell[i] = cell_of<D>(x + D * i, shift, length, count, shear);
+    const auto cell_count = static_cast<std::int64_t>(cells.cell_count());
+    tbb::parallel_for(std::size_t{0}, cells.blocks.size(), [&](std::size_t b) {
+      const std::size_t begin = b * block, end = std::min(n, begin + block);
+      const std::int64_t first = cell_of<D>(x + D * begin, shift, length, count, shear);
+      std::int64_t low = 0, high = 0;
+      for (std::size_t i = begin; i < end; ++i) {
+        const std::uint32_t c = cell_of<D>(x + D * i, shift, length, count, shear);
+        cell[i] = c;
+        if (image) image[i] = static_cast<std::int8_t>(shear_image<D>(x + D * i, shift, length));
+        // Distance from the block's first cell, the short way round.
+        std::int64_t d = static_cast<std::int64_t>(c) - first;
+        if (2 * d > cell_count) d -= cell_count;
+        if (2 * d <= -cell_count) d += cell_count;
+        low = std::min(low, d);
+        high = std::max(high, d);
+      }
+      cells.blocks[b] = {static_cast<std::uint32_t>((first + low + cell_count) % cell_count),
+                         static_cast<std::uint32_t>(std::min(high - low, cell_count - 1))};
     });
-    // Counting sort in a fixed number of chunks (not one per thread, so the
-    // order is the same on any thread count): each chunk counts its particles
-    // per cell, the counts give each chunk its place in every cell, and each
-    // chunk then writes its particles there, in index order.
+  }
+
+  // assign, then the counting sort: `order` lists the particles cell by
+  // cell in index order, `start` where each cell's list begins, and `count`
+  // how many each cell holds.
+  static void bin(const World& world, SrdCells<D>& cells) {
+    assign(world, cells);
+    const std::size_t n = world.size();
+    cells.order.resize(n);
+    const std::uint32_t* cell = cells.cell.data();
+    // Each of a fixed number of chunks (not one per thread, so the order is
+    // the same on any thread count) counts its particles per cell; the counts
+    // give each chunk its place in every cell, and each chunk then writes its
+    // particles there, in index order.
     const std::size_t cell_count = cells.cell_count();
     const std::size_t chunks = std::clamp<std::size_t>(n / (1u << 16), 1, 16);
     const std::size_t per_chunk = (n + chunks - 1) / chunks;
@@ -89,6 +116,7 @@ class SrdCellBinning : public System {
         counts[k * cell_count + c] = running;
         running += here;
       }
+      cells.count[c] = running - cells.start[c];
     }
     cells.start[cell_count] = running;
     std::uint32_t* order = cells.order.data();
@@ -97,6 +125,15 @@ class SrdCellBinning : public System {
       for (std::size_t i = k * per_chunk; i < std::min(n, (k + 1) * per_chunk); ++i)
         order[next[cell[i]]++] = static_cast<std::uint32_t>(i);
     });
+  }
+
+  // bin, then the particle columns in cell order: afterwards particle k is
+  // the one that was order[k], and `order` is the identity.
+  static void sort(World& world, SrdCells<D>& cells) {
+    bin(world, cells);
+    world.permute(cells.order);
+    assign(world, cells);
+    std::iota(cells.order.begin(), cells.order.end(), 0u);
   }
 
  private:

@@ -1,11 +1,21 @@
 #pragma once
-// Per SRD cell: its mass, mean velocity V (mass-weighted, in the frame of
-// the cell: across a shear plane, of the image it lies in) and temperature
-// theta = sum m |v - V|^2 / (D n), in two passes over the cell's particles
-// (the second about V, so no large sums cancel). Cells are independent and
-// summed in a fixed order: the result does not depend on the thread count.
+// Per SRD cell: its particle count, mass, mean velocity V (mass-weighted, in
+// the frame of the cell: across a shear plane, of the image it lies in) and
+// temperature theta = sum m |v - V|^2 / (D n). One pass over the particles:
+// the sums are taken about the velocity of the cell's first particle, so the
+// variance does not come from the difference of two large sums however fast
+// the cell moves (the shifted-data form of the two-pass formula).
+//
+// Parallel over ranges of cells: each task reads the blocks of particles
+// that reach into its cells and adds, cell by cell, their particles in
+// storage order, so the result does not depend on the thread count.
 
 #include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
 
 #include "components/mass.hpp"
 #include "components/position.hpp"
@@ -18,7 +28,7 @@
 namespace granflow::srd {
 
 inline const SystemDescription srd_cell_reduction_description{
-    "srd_cell_reduction", "mass, mean velocity and temperature of every SRD cell (parallel over cells)"};
+    "srd_cell_reduction", "count, mass, mean velocity and temperature of every SRD cell (parallel over cell ranges)"};
 
 template <int D>
 class SrdCellReduction : public System {
@@ -28,39 +38,92 @@ class SrdCellReduction : public System {
 
   void run(World& world) override { reduce(world, world.resource<SrdCells<D>>()); }
 
+  // Needs SrdCellBinning::assign's cells and blocks of the current positions.
   static void reduce(const World& world, SrdCells<D>& cells) {
-    const auto& velocity = world.component<Velocity<D>>();
-    const auto& position = world.component<Position<D>>();
-    // Velocities as the cell sees them (Lees-Edwards images, srd_kernels.hpp).
-    const auto seen = [&](std::uint32_t i) {
-      Vec<D> v = velocity[i];
-      v[0] += image_velocity_x<D>(position[i].data(), cells.shift.data(), cells.length.data(), cells.shear);
-      return v;
-    };
+    const Vec<D>* velocity = world.component<Velocity<D>>().data();  // D doubles each, packed
+    const double* x = world.component<Position<D>>().data()->data();
     const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
     const double m0 = cells.particle_mass;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.cell_count(), 256), [&](const auto& range) {
-      for (std::size_t c = range.begin(); c != range.end(); ++c) {
-        const std::uint32_t begin = cells.start[c], end = cells.start[c + 1];
-        double total = 0.0;
-        Vec<D> momentum = Vec<D>::Zero();
-        for (std::uint32_t k = begin; k < end; ++k) {
-          const std::uint32_t i = cells.order[k];
-          const double m = mass ? mass[i] : m0;
-          total += m;
-          momentum += m * seen(i);
-        }
-        const Vec<D> mean = total > 0.0 ? Vec<D>(momentum / total) : Vec<D>::Zero();
-        double thermal = 0.0;
-        for (std::uint32_t k = begin; k < end; ++k) {
-          const std::uint32_t i = cells.order[k];
-          thermal += (mass ? mass[i] : m0) * (seen(i) - mean).squaredNorm();
-        }
-        cells.mass[c] = total;
-        cells.velocity[c] = mean;
-        cells.theta[c] = end > begin ? thermal / (D * static_cast<double>(end - begin)) : 0.0;
-      }
-    });
+    const std::size_t n = world.size(), cell_count = cells.cell_count();
+    const bool moments = cells.record_moments && D >= 2;
+    if (moments) {
+      cells.moment.resize(cell_count);
+      cells.moment_mass.resize(cell_count);
+    }
+    const std::uint32_t* cell = cells.cell.data();
+    const std::int8_t* image = cells.image.empty() ? nullptr : cells.image.data();
+    const double image_speed = cells.shear.velocity;
+    const BlockCells* blocks = cells.blocks.data();
+    const std::size_t block_count = cells.blocks.size(), block = SrdCells<D>::block_size;
+    const double y_shift = D >= 2 ? cells.shift[1] : 0.0;
+    // Raw columns, so that the compiler knows the sums do not move them.
+    std::uint32_t* count = cells.count.data();
+    double* total = cells.mass.data();
+    double* sum = cells.velocity.data()->data();  // sum m (v - reference), until the end
+    double* squares = cells.theta.data();           // sum m |v - reference|^2, likewise
+    double* reference = cells.reference.data()->data();
+    double* moment = moments ? cells.moment.data()->data() : nullptr;
+    double* moment_mass = moments ? cells.moment_mass.data() : nullptr;
+    const double* v = velocity->data();
+    // Few, wide ranges: a block is reread by every range its cells reach
+    // into, and between reorderings the particles spread over several
+    // planes of cells.
+    const auto threads = static_cast<std::size_t>(tbb::this_task_arena::max_concurrency());
+    const std::size_t grain = std::max<std::size_t>(1024, cell_count / (2 * threads));
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, cell_count, grain),
+        [&](const auto& range) {
+          const auto begin = static_cast<std::uint32_t>(range.begin()), end = static_cast<std::uint32_t>(range.end());
+          std::fill(count + begin, count + end, 0u);
+          std::fill(total + begin, total + end, 0.0);
+          std::fill(sum + D * begin, sum + D * end, 0.0);
+          std::fill(squares + begin, squares + end, 0.0);
+          if (moments) {
+            std::fill(moment + D * begin, moment + D * end, 0.0);
+            std::fill(moment_mass + begin, moment_mass + end, 0.0);
+          }
+          for (std::size_t b = 0; b < block_count; ++b) {
+            if (!blocks[b].meets(begin, end, static_cast<std::uint32_t>(cell_count))) continue;
+            const std::size_t last = std::min(n, (b + 1) * block);
+            for (std::size_t i = b * block; i < last; ++i) {
+              const std::uint32_t c = cell[i];
+              if (c < begin || c >= end) continue;
+              double seen[D];
+              for (int a = 0; a < D; ++a) seen[a] = v[D * i + a];
+              if (image) seen[0] -= image[i] * image_speed;
+              double* ref = reference + D * c;
+              if (count[c]++ == 0)
+                for (int a = 0; a < D; ++a) ref[a] = seen[a];
+              const double m = mass ? mass[i] : m0;
+              double w[D], w2 = 0.0;
+              for (int a = 0; a < D; ++a) {
+                w[a] = seen[a] - ref[a];
+                w2 += w[a] * w[a];
+              }
+              total[c] += m;
+              for (int a = 0; a < D; ++a) sum[D * c + a] += m * w[a];
+              squares[c] += m * w2;
+              if (moments) {
+                const double y = x[D * i + 1] + y_shift;
+                const double offset = m * (y - static_cast<double>(floor_index(y)) - 0.5);  // from the cell's centre
+                for (int a = 0; a < D; ++a) moment[D * c + a] += offset * w[a];
+                moment_mass[c] += offset;
+              }
+            }
+          }
+          for (std::uint32_t c = begin; c < end; ++c) {
+            if (count[c] == 0) continue;
+            double drift[D], variance = squares[c];  // drift: V - reference
+            for (int a = 0; a < D; ++a) {
+              drift[a] = sum[D * c + a] / total[c];
+              variance -= sum[D * c + a] * drift[a];
+              sum[D * c + a] = reference[D * c + a] + drift[a];
+              if (moments) moment[D * c + a] -= moment_mass[c] * drift[a];
+            }
+            squares[c] = std::max(0.0, variance) / (D * static_cast<double>(count[c]));
+          }
+        },
+        tbb::simple_partitioner{});
   }
 };
 

@@ -14,10 +14,9 @@
 #include <atomic>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "components/clock.hpp"
-#include "components/mass.hpp"
-#include "components/position.hpp"
 #include "components/velocity.hpp"
 #include "engine/rng.hpp"
 #include "engine/stream_ids.hpp"
@@ -62,13 +61,9 @@ CellRotation<D> cell_rotation(const CellRotation<D>& base, std::uint64_t seed, s
   if constexpr (D == 2) {
     if (random.uniform() >= 0.5) r.sin_alpha = -r.sin_alpha;
   } else {
-    const double u1 = random.uniform(), u2 = random.uniform();
-    unit_vector<3>(u1, u2, r.axis);
+    random_unit_vector<3>(random, r.axis);
   }
-  if (r.rule == Dissipation::random_axis) {
-    const double u1 = random.uniform(), u2 = random.uniform();
-    unit_vector<D>(u1, u2, r.direction);
-  }
+  if (r.rule == Dissipation::random_axis) random_unit_vector<D>(random, r.direction);
   return r;
 }
 
@@ -80,50 +75,57 @@ class SrdRotation : public System {
 
   std::string name() const override { return "srd_rotation"; }
   Access access() const override {
-    return Access{}.reads<Clock, Position<D>>().template writes<Velocity<D>, SrdCells<D>>();
+    return Access{}.reads<Clock>().template writes<Velocity<D>, SrdCells<D>>();
   }
 
   void run(World& world) override {
     auto& cells = world.resource<SrdCells<D>>();
     const auto step = static_cast<std::uint64_t>(world.resource<Clock>().step);
-    auto& velocity = world.component<Velocity<D>>();
-    const auto& position = world.component<Position<D>>();
-    const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
-    const double m0 = cells.particle_mass;
     const bool granular = p_.restitution < 1.0 && p_.diameter > 0.0;
+    const bool transfer = p_.record_transfer && D >= 2 && cells.record_moments;
+    const std::size_t cell_count = cells.cell_count();
+    collisions_.resize(cell_count);
+    // Each cell's operator, from its random numbers and (granular) its density and temperature.
     std::atomic<std::uint64_t> clamped{0};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.cell_count(), 256), [&](const auto& range) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cell_count, 256), [&](const auto& range) {
       std::uint64_t clamped_here = 0;
       for (std::size_t c = range.begin(); c != range.end(); ++c) {
-        const std::uint32_t begin = cells.start[c], end = cells.start[c + 1];
+        CellCollision& collision = collisions_[c];
+        for (int a = 0; a < D; ++a) collision.mean[a] = cells.velocity[c][a];
         cells.transfer[c] = 0.0;
-        if (end - begin < 2) continue;  // one particle has no thermal velocity
+        if (cells.count[c] < 2) {  // one particle has no thermal velocity
+          for (int a = 0; a < D * D; ++a) collision.matrix[a] = a % (D + 1) == 0 ? 1.0 : 0.0;
+          continue;
+        }
         CellRotation<D> r = cell_rotation<D>(base_, seed_, step, c);
         if (granular) {
           bool below_zero = false;
-          r.eps = effective_restitution(p_.restitution, p_.diameter, static_cast<double>(end - begin), cells.theta[c],
+          r.eps = effective_restitution(p_.restitution, p_.diameter, static_cast<double>(cells.count[c]), cells.theta[c],
                                         p_.dt, below_zero);
           clamped_here += below_zero;
         }
-        const Vec<D> mean = cells.velocity[c];
-        double transfer = 0.0;
-        for (std::uint32_t k = begin; k < end; ++k) {
-          const std::uint32_t i = cells.order[k];
-          const double image = image_velocity_x<D>(position[i].data(), cells.shift.data(), cells.length.data(), cells.shear);
-          Vec<D> u = velocity[i] - mean;
-          u[0] += image;
-          r.apply(u.data());
-          Vec<D> after = mean + u;
-          after[0] -= image;
-          if (D >= 2 && p_.record_transfer) {
-            const double y = position[i][1] + cells.shift[1];
-            transfer += (mass ? mass[i] : m0) * (after[0] - velocity[i][0]) * (y - std::floor(y) - 0.5);
-          }
-          velocity[i] = after;
+        r.matrix(collision.matrix);
+        // The x momentum the collision moves across the cell's centre plane:
+        // sum m dv_x (y - y_cell) = ((M - 1) row x) . sum m (v - V) (y - y_cell).
+        if (transfer) {
+          double sum = -cells.moment[c][0];
+          for (int b = 0; b < D; ++b) sum += collision.matrix[b] * cells.moment[c][b];
+          cells.transfer[c] = sum;
         }
-        cells.transfer[c] = transfer;
       }
       clamped += clamped_here;
+    });
+    // Then every particle, independently.
+    double* v = world.component<Velocity<D>>().data()->data();
+    const std::uint32_t* cell = cells.cell.data();
+    const std::int8_t* image = cells.image.empty() ? nullptr : cells.image.data();
+    const double image_speed = cells.shear.velocity;
+    const CellCollision* collisions = collisions_.data();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 4096), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        const CellCollision& collision = collisions[cell[i]];
+        collide_particle<D>(v + D * i, collision.matrix, collision.mean, image ? -image[i] * image_speed : 0.0);
+      }
     });
     cells.clamped_cells = clamped.load();
     total_clamped_ += cells.clamped_cells;
@@ -144,6 +146,12 @@ class SrdRotation : public System {
   RotationParameters p_;
   CellRotation<D> base_;
   std::uint64_t seed_;
+  // A cell's operator and mean velocity together: one record per particle's lookup.
+  struct CellCollision {
+    double matrix[D * D];
+    double mean[D];
+  };
+  std::vector<CellCollision> collisions_;  // per cell, this step's
   std::uint64_t total_clamped_ = 0;
   bool warned_ = false;
 };

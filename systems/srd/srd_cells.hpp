@@ -1,11 +1,16 @@
 #pragma once
 // The SRD collision grid of one World (a resource): cells of edge 1 filling
 // the box, this step's random shift, the Lees-Edwards state, which cell each
-// particle is in and the particles of each cell (counting sort: `order`
-// lists particle indices cell by cell, cell c from start[c] to start[c+1]),
-// and per cell its mass, mean velocity V and temperature theta. Everything
-// here is rebuilt every step from the particles and the step's random
-// numbers, so a checkpoint needs none of it.
+// particle is in, and per cell its particle count, mass, mean velocity V and
+// temperature theta. Everything here is rebuilt every step from the
+// particles and the step's random numbers, so a checkpoint needs none of it.
+//
+// The particles are not sorted every step: they are kept in cell order by a
+// counting sort every few steps, and in between each fixed block of
+// consecutive particles records the (circular) range of cells it touches.
+// A task that owns a range of cells then reads only the blocks that reach
+// into it, and sums each cell's particles in storage order, so the cell sums
+// do not depend on how the cells are split over threads.
 
 #include <array>
 #include <cstdint>
@@ -16,44 +21,76 @@
 
 namespace granflow::srd {
 
+// The cells of one block of particles: first, first + 1, ..., first + span,
+// modulo the cell count.
+struct BlockCells {
+  std::uint32_t first = 0;
+  std::uint32_t span = 0;
+
+  // Whether any of them lies in [begin, end).
+  bool meets(std::uint32_t begin, std::uint32_t end, std::uint32_t cell_count) const {
+    if (span + 1 >= cell_count) return true;
+    const std::uint64_t last = static_cast<std::uint64_t>(first) + span;
+    if (last < cell_count) return first < end && last >= begin;
+    return first < end || last - cell_count >= begin;  // wraps past the last cell
+  }
+};
+
 template <int D>
 struct SrdCells {
   static constexpr const char* key = "srd_cells";
+  static constexpr std::size_t block_size = 4096;  // particles per BlockCells
 
   std::array<std::int32_t, D> cells{};
   std::array<double, D> length{};
   std::array<double, D> shift{};
   Shear shear;
   double particle_mass = 1.0;  // where the World has no Mass column
+  // Whether the reduction sums each cell's first moment (for the collisional stress).
+  bool record_moments = false;
 
-  std::vector<std::uint32_t> cell;   // per particle
-  std::vector<std::uint32_t> order;  // particle indices, cell by cell
-  std::vector<std::uint32_t> start;  // per cell, and one past the last
-  std::vector<std::uint32_t> chunk_counts;  // the binning's scratch: per chunk, per cell
+  std::vector<std::uint32_t> cell;    // per particle
+  std::vector<std::int8_t> image;     // per particle, with shear only: shear_image of its shifted position
+  std::vector<BlockCells> blocks;     // per block of block_size particles
+  // Counting sort (at reorderings, or on request): particle indices cell by
+  // cell, cell c from start[c] to start[c + 1].
+  std::vector<std::uint32_t> order;
+  std::vector<std::uint32_t> start;
+  std::vector<std::uint32_t> chunk_counts;  // its scratch: per chunk, per cell
+
+  std::vector<std::uint32_t> count;  // per cell: particles
   std::vector<double> mass;          // per cell
   std::vector<Vec<D>> velocity;      // per cell: mean velocity V
   std::vector<double> theta;         // per cell: sum m |v - V|^2 / (D n)
+  std::vector<Vec<D>> reference;     // the reduction's scratch: the velocity its sums are taken about
+  // Per cell, with record_moments: sum m (v - V) (y - y_cell), and the
+  // reduction's scratch sum m (y - y_cell).
+  std::vector<Vec<D>> moment;
+  std::vector<double> moment_mass;
   // Per cell, this step's collisional transfer sum m dv_x (y - y_cell), for
   // the collisional stress; and how many cells had eps_eff <= 0.
   std::vector<double> transfer;
   std::uint64_t clamped_cells = 0;
 
   SrdCells(std::array<std::int32_t, D> cells_per_axis, std::size_t particles) : cells(cells_per_axis) {
-    std::size_t count = 1;
+    std::size_t total = 1;
     for (int a = 0; a < D; ++a) {
       length[a] = static_cast<double>(cells[a]);
-      count *= static_cast<std::size_t>(cells[a]);
+      total *= static_cast<std::size_t>(cells[a]);
     }
     cell.resize(particles);
-    order.resize(particles);
-    start.assign(count + 1, 0);
-    mass.assign(count, 0.0);
-    velocity.assign(count, Vec<D>::Zero());
-    theta.assign(count, 0.0);
-    transfer.assign(count, 0.0);
+    start.assign(total + 1, 0);
+    count.assign(total, 0);
+    mass.assign(total, 0.0);
+    velocity.assign(total, Vec<D>::Zero());
+    theta.assign(total, 0.0);
+    reference.assign(total, Vec<D>::Zero());
+    transfer.assign(total, 0.0);
   }
   std::size_t cell_count() const { return mass.size(); }
-  std::uint32_t particles_in(std::size_t c) const { return start[c + 1] - start[c]; }
+  std::uint32_t particles_in(std::size_t c) const { return count[c]; }
+  // The x velocity particle i's cell sees it move with beyond a shear plane.
+  double image_velocity(std::size_t i) const { return image.empty() ? 0.0 : -image[i] * shear.velocity; }
 };
 
 }  // namespace granflow::srd

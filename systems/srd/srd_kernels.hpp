@@ -23,23 +23,49 @@ struct Shear {
   double offset = 0.0;
 };
 
+// floor(s) as an integer, exact for |s| < 2^63, without the library call
+// that std::floor is on baseline x86-64.
+GRANFLOW_HD inline std::int64_t floor_index(double s) {
+  const auto truncated = static_cast<std::int64_t>(s);
+  return truncated - (s < static_cast<double>(truncated) ? 1 : 0);
+}
+
+// How many box lengths x lies beyond [0, length): a test for the usual case
+// of at most one, a division only beyond it.
+GRANFLOW_HD inline double periods_out(double x, double length) {
+  if (x >= 0.0 && x < length) return 0.0;
+  if (x < 0.0 && x >= -length) return -1.0;
+  if (x >= length && x < 2.0 * length) return 1.0;
+  return std::floor(x / length);
+}
+
+// x back into [0, length).
+GRANFLOW_HD inline double wrapped(double x, double length) {
+  x -= periods_out(x, length) * length;
+  return x < length ? x : 0.0;  // round-off of a value just below zero
+}
+
 // x += v dt, then back into the box; crossing a shear plane k times moves the
 // particle by -k offset along x and changes v_x by -k velocity (Lees-Edwards).
 template <int D>
 GRANFLOW_HD inline void stream_particle(double* x, double* v, double dt, const double* length, Shear shear) {
   for (int a = 0; a < D; ++a) x[a] += v[a] * dt;
   if (D >= 2 && shear.velocity != 0.0) {
-    const double crossings = std::floor(x[1] / length[1]);
+    const double crossings = periods_out(x[1], length[1]);
     if (crossings != 0.0) {
       x[1] -= crossings * length[1];
       x[0] -= crossings * shear.offset;
       v[0] -= crossings * shear.velocity;
     }
   }
-  for (int a = 0; a < D; ++a) {
-    x[a] -= std::floor(x[a] / length[a]) * length[a];
-    if (x[a] >= length[a]) x[a] = 0.0;  // round-off of a value just below zero
-  }
+  for (int a = 0; a < D; ++a) x[a] = wrapped(x[a], length[a]);
+}
+
+// Which image along y the shifted position x + shift lies in: -1 below the
+// lower shear plane, +1 above the upper one, 0 inside the box.
+template <int D>
+GRANFLOW_HD inline int shear_image(const double* x, const double* shift, const double* length) {
+  return D >= 2 ? static_cast<int>(periods_out(x[1] + shift[1], length[1])) : 0;
 }
 
 // Linear index of the cell holding x + shift. A shifted position beyond a
@@ -49,15 +75,16 @@ GRANFLOW_HD inline std::uint32_t cell_of(const double* x, const double* shift, c
                                          const std::int32_t* cells, Shear shear) {
   double s[D];
   for (int a = 0; a < D; ++a) s[a] = x[a] + shift[a];
-  if (D >= 2 && shear.velocity != 0.0) {
-    const double crossings = std::floor(s[1] / length[1]);
-    s[0] -= crossings * shear.offset;
-  }
+  if (D >= 2 && shear.velocity != 0.0) s[0] -= shear_image<D>(x, shift, length) * shear.offset;
   std::uint32_t index = 0;
   for (int a = D - 1; a >= 0; --a) {
-    auto c = static_cast<std::int64_t>(std::floor(s[a]));
-    c %= cells[a];
+    std::int64_t c = floor_index(s[a]);
     if (c < 0) c += cells[a];
+    if (c >= cells[a]) c -= cells[a];
+    if (c < 0 || c >= cells[a]) {  // more than one box length out: only through the shear offset
+      c %= cells[a];
+      if (c < 0) c += cells[a];
+    }
     index = index * static_cast<std::uint32_t>(cells[a]) + static_cast<std::uint32_t>(c);
   }
   return index;
@@ -70,7 +97,7 @@ GRANFLOW_HD inline std::uint32_t cell_of(const double* x, const double* shift, c
 template <int D>
 GRANFLOW_HD inline double image_velocity_x(const double* x, const double* shift, const double* length, Shear shear) {
   if (D < 2 || shear.velocity == 0.0) return 0.0;
-  return -std::floor((x[1] + shift[1]) / length[1]) * shear.velocity;
+  return -shear_image<D>(x, shift, length) * shear.velocity;
 }
 
 // The granular cell's effective restitution, 1 - (1 - eps^2) sigma^2 rho
@@ -129,20 +156,55 @@ struct CellRotation {
     }
     for (int a = 0; a < D; ++a) u[a] = w[a];
   }
+
+  // The operator as a D x D matrix (row-major): every rule is linear in the
+  // thermal velocity, so a cell's particles need only a matrix product.
+  GRANFLOW_HD void matrix(double* m) const {
+    for (int b = 0; b < D; ++b) {
+      double column[D];
+      for (int a = 0; a < D; ++a) column[a] = a == b ? 1.0 : 0.0;
+      apply(column);
+      for (int a = 0; a < D; ++a) m[a * D + b] = column[a];
+    }
+  }
 };
 
-// A unit vector uniform on the circle (2D) or sphere (3D) from two uniforms in [0, 1).
+// One particle's collision with its cell: v -> V + M (v + image - V) - image,
+// where `image` is the x velocity its cell sees it move with beyond a shear
+// plane and M the cell's operator (CellRotation::matrix).
 template <int D>
-GRANFLOW_HD inline void unit_vector(double u1, double u2, double* out) {
-  constexpr double two_pi = 6.283185307179586;
+GRANFLOW_HD inline void collide_particle(double* v, const double* m, const double* mean, double image) {
+  double u[D], w[D];
+  for (int a = 0; a < D; ++a) u[a] = v[a] - mean[a];
+  u[0] += image;
+  for (int a = 0; a < D; ++a) {
+    w[a] = 0.0;
+    for (int b = 0; b < D; ++b) w[a] += m[a * D + b] * u[b];
+  }
+  for (int a = 0; a < D; ++a) v[a] = mean[a] + w[a];
+  v[0] -= image;
+}
+
+// A unit vector uniform on the circle (2D) or sphere (3D), from a point
+// uniform in the unit disk (pairs of uniforms, rejected outside it; 21 % are)
+// with no trigonometric call: the disk point's angle doubled (2D), or
+// Marsaglia's (1972) map to the sphere (3D). `random` gives uniforms in (0, 1).
+template <int D, class Uniform>
+GRANFLOW_HD inline void random_unit_vector(Uniform& random, double* out) {
+  double x1, x2, s;
+  do {
+    x1 = 2.0 * random.uniform() - 1.0;
+    x2 = 2.0 * random.uniform() - 1.0;
+    s = x1 * x1 + x2 * x2;
+  } while (s >= 1.0 || s == 0.0);
   if constexpr (D == 2) {
-    out[0] = std::cos(two_pi * u1);
-    out[1] = std::sin(two_pi * u1);
+    out[0] = (x1 * x1 - x2 * x2) / s;
+    out[1] = 2.0 * x1 * x2 / s;
   } else {
-    const double z = 2.0 * u1 - 1.0, r = std::sqrt(1.0 - z * z);
-    out[0] = r * std::cos(two_pi * u2);
-    out[1] = r * std::sin(two_pi * u2);
-    out[2] = z;
+    const double r = 2.0 * std::sqrt(1.0 - s);
+    out[0] = r * x1;
+    out[1] = r * x2;
+    out[2] = 1.0 - 2.0 * s;
   }
 }
 

@@ -111,9 +111,9 @@ void add_srd_fluid(Run& run) {
   if (particles > 4.0e9)
     throw ConfigError(fmt::format("{:.3g} particles (system.cells x srd.particles_per_cell) exceed the 2^32 a cell "
                                   "index can count", particles));
-  // Position, velocity, cell, order; per cell six to eight doubles.
+  // Position, velocity, cell, order; per cell its sums, scratch and operator.
   require_memory(fmt::format("{:.3g} SRD particles", particles),
-                 particles * (2.0 * 8.0 * D + 8.0) + cell_count * 8.0 * (D + 4.0));
+                 particles * (2.0 * 8.0 * D + 9.0) + cell_count * 8.0 * (D * D + 4.0 * D + 5.0));
   const auto n = static_cast<std::size_t>(particles);
   const double rate = c.real("shear.rate");
   const double temperature = c.real("srd.temperature");
@@ -134,11 +134,14 @@ void add_srd_fluid(Run& run) {
       // The profile the Lees-Edwards planes drive, so the run starts near its steady state.
       if (rate > 0.0) v[i][0] += rate * (x[i][1] - 0.5 * cells[1]);
     }
+    SrdCells<D> unshifted(cells, n);
+    SrdCellBinning<D>::sort(world, unshifted);
   });
   // The cells of the current state, so that observers at the start see them.
   auto& state = run.world().template emplace_resource<SrdCells<D>>(cells, n);
   SrdStreaming<D>::set_shear(state, rate, run.world().template resource<Clock>().time);
-  SrdCellBinning<D>::bin(run.world(), state);
+  state.record_moments = rate > 0.0;
+  SrdCellBinning<D>::assign(run.world(), state);
   SrdCellReduction<D>::reduce(run.world(), state);
   std::vector<double> edges(cells.begin(), cells.end());
   run.box(edges, std::vector<std::string>(D, "periodic"));

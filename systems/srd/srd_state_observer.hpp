@@ -13,7 +13,6 @@
 #include <cmath>
 
 #include "components/mass.hpp"
-#include "components/position.hpp"
 #include "components/velocity.hpp"
 #include "engine/deterministic_sum.hpp"
 #include "engine/observable_store.hpp"
@@ -34,7 +33,7 @@ class SrdStateObserver : public System {
   std::string name() const override { return "observe_srd_state"; }
   Access access() const override {
     return Access{}
-        .reads<Position<D>, Velocity<D>, SrdCells<D>>()
+        .reads<Velocity<D>, SrdCells<D>>()
         .writes_observable("temperature", unit::energy)
         .writes_observable("granular_temperature", unit::energy)
         .writes_observable("convective_kinetic_energy", unit::energy)
@@ -48,7 +47,6 @@ class SrdStateObserver : public System {
   void run(World& world) override {
     const auto& cells = world.resource<SrdCells<D>>();
     const auto& velocity = world.component<Velocity<D>>();
-    const auto& position = world.component<Position<D>>();
     const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
     const double m0 = cells.particle_mass;
     const std::size_t n = world.size();
@@ -57,15 +55,11 @@ class SrdStateObserver : public System {
 
     const std::size_t c_count = cells.cell_count();
     const double occupied = deterministic_sum(c_count, [&](std::size_t c) { return cells.particles_in(c) > 0 ? 1.0 : 0.0; });
-    const double thermal = deterministic_sum(c_count, [&](std::size_t c) {
-      double sum = 0.0;
-      for (std::uint32_t k = cells.start[c]; k < cells.start[c + 1]; ++k) {
-        const std::uint32_t i = cells.order[k];
-        Vec<D> u = velocity[i] - cells.velocity[c];
-        u[0] += image_velocity_x<D>(position[i].data(), cells.shift.data(), cells.length.data(), cells.shear);
-        sum += m(i) * u.squaredNorm();
-      }
-      return sum;
+    const std::uint32_t* cell = cells.cell.data();
+    const double thermal = deterministic_sum(n, [&](std::size_t i) {
+      Vec<D> u = velocity[i] - cells.velocity[cell[i]];
+      u[0] += cells.image_velocity(i);
+      return m(i) * u.squaredNorm();
     });
     const double convective =
         deterministic_sum(c_count, [&](std::size_t c) { return cells.mass[c] * cells.velocity[c].squaredNorm(); }) /

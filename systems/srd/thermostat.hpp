@@ -11,8 +11,8 @@
 #include <cmath>
 
 #include "components/mass.hpp"
-#include "components/position.hpp"
 #include "components/velocity.hpp"
+#include "engine/deterministic_sum.hpp"
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
@@ -29,57 +29,42 @@ class SrdThermostat : public System {
   explicit SrdThermostat(double temperature) : temperature_(temperature) {}
 
   std::string name() const override { return "srd_thermostat"; }
-  Access access() const override { return Access{}.reads<Position<D>>().template writes<Velocity<D>, SrdCells<D>>(); }
+  Access access() const override { return Access{}.writes<Velocity<D>, SrdCells<D>>(); }
 
   void run(World& world) override {
     auto& cells = world.resource<SrdCells<D>>();
-    auto& velocity = world.component<Velocity<D>>();
-    const auto& position = world.component<Position<D>>();
-    const auto image = [&](std::uint32_t i) {
-      return image_velocity_x<D>(position[i].data(), cells.shift.data(), cells.length.data(), cells.shear);
-    };
+    Vec<D>* velocity = world.component<Velocity<D>>().data();
     const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
     const double m0 = cells.particle_mass;
+    const auto m = [&](std::size_t i) { return mass ? mass[i] : m0; };
     const std::size_t n = world.size();
+    const std::uint32_t* cell = cells.cell.data();
+    // A particle's velocity relative to its cell's mean, as the cell sees it.
+    const auto thermal_velocity = [&](std::size_t i) {
+      Vec<D> u = velocity[i] - cells.velocity[cell[i]];
+      u[0] += cells.image_velocity(i);
+      return u;
+    };
     // Global drift (mass-weighted mean velocity), summed in a fixed order.
-    Vec<D> momentum = Vec<D>::Zero();
-    double total = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const double m = mass ? mass[i] : m0;
-      momentum += m * velocity[i];
-      total += m;
-    }
-    const Vec<D> drift = momentum / total;
+    Vec<D> drift;
+    const double total = deterministic_sum(n, m);
+    for (int a = 0; a < D; ++a) drift[a] = deterministic_sum(n, [&](std::size_t i) { return m(i) * velocity[i][a]; }) / total;
     // Thermal energy about the cell means (which the rotation left unchanged).
-    double thermal = 0.0;
-    std::size_t occupied = 0;
-    for (std::size_t c = 0; c < cells.cell_count(); ++c) {
-      if (cells.particles_in(c) == 0) continue;
-      ++occupied;
-      for (std::uint32_t k = cells.start[c]; k < cells.start[c + 1]; ++k) {
-        const std::uint32_t i = cells.order[k];
-        Vec<D> u = velocity[i] - cells.velocity[c];
-        u[0] += image(i);
-        thermal += (mass ? mass[i] : m0) * u.squaredNorm();
-      }
-    }
+    const double thermal = deterministic_sum(n, [&](std::size_t i) { return m(i) * thermal_velocity(i).squaredNorm(); });
+    const double occupied =
+        deterministic_sum(cells.cell_count(), [&](std::size_t c) { return cells.count[c] > 0 ? 1.0 : 0.0; });
     // Each occupied cell's mean velocity takes D degrees of freedom.
-    const double dof = static_cast<double>(D) * static_cast<double>(n - occupied);
+    const double dof = D * (static_cast<double>(n) - occupied);
     if (thermal <= 0.0 || dof <= 0.0) return;
     const double factor = std::sqrt(temperature_ * dof / thermal);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.cell_count(), 256), [&](const auto& range) {
-      for (std::size_t c = range.begin(); c != range.end(); ++c) {
-        const Vec<D> mean = cells.velocity[c];
-        for (std::uint32_t k = cells.start[c]; k < cells.start[c + 1]; ++k) {
-          const std::uint32_t i = cells.order[k];
-          Vec<D> u = velocity[i] - mean;
-          u[0] += image(i);
-          velocity[i] = mean - drift + factor * u;
-          velocity[i][0] -= image(i);
-        }
-        cells.velocity[c] = mean - drift;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        const Vec<D> u = thermal_velocity(i);
+        velocity[i] = cells.velocity[cell[i]] - drift + factor * u;
+        velocity[i][0] -= cells.image_velocity(i);
       }
     });
+    tbb::parallel_for(std::size_t{0}, cells.cell_count(), [&](std::size_t c) { cells.velocity[c] -= drift; });
   }
 
  private:

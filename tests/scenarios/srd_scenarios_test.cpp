@@ -39,8 +39,14 @@
 namespace granflow {
 namespace {
 
+#ifdef GRANFLOW_SRD_LONG
+constexpr const char* variant = "long_";  // the long and short variants may run at once
+#else
+constexpr const char* variant = "";
+#endif
+
 std::string scratch(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("granflow_srd_" + name + ".h5md")).string();
+  return (std::filesystem::temp_directory_path() / ("granflow_srd_" + std::string(variant) + name + ".h5md")).string();
 }
 
 H5mdReader run(const std::string& scenario, Config config, const std::string& name) {
