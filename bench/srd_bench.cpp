@@ -97,6 +97,16 @@ void Stage(benchmark::State& state) {
   }
   state.SetLabel(f.stages[k]->name());
 }
+// A reordering: the counting sort, the permutation of the particle columns
+// and the cells again (every srd.reorder_interval steps).
+void Sort(benchmark::State& state) {
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
+  Fluid& f = fluid();
+  auto& cells = f.world.resource<srd::SrdCells<3>>();
+  for (auto _ : state) srd::SrdCellBinning<3>::sort(f.world, cells);
+}
+BENCHMARK(Sort)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+
 // The grid shift (stage 1) draws three numbers: too short to time this way.
 BENCHMARK(Stage)->Arg(0)->Arg(2)->Arg(3)->Arg(4)->UseRealTime()->Unit(benchmark::kMillisecond);
 

@@ -54,40 +54,52 @@ class SrdCellBinning : public System {
   static void assign(const World& world, SrdCells<D>& cells) {
     const double* x = world.component<Position<D>>().data()->data();
     const std::size_t n = world.size();
-    const std::size_t block = SrdCells<D>::block_size;
     cells.cell.resize(n);
     cells.image.resize(D >= 2 && cells.shear.velocity != 0.0 ? n : 0);
-    cells.blocks.resize((n + block - 1) / block);
     std::uint32_t* cell = cells.cell.data();
     std::int8_t* image = cells.image.empty() ? nullptr : cells.image.data();
     const double* shift = cells.shift.data();
     const double* length = cells.length.data();
     const std::int32_t* count = cells.cells.data();
     const Shear shear = cells.shear;
-    const auto cell_count = static_cast<std::int64_t>(cells.cell_count());
-    tbb::parallel_for(std::size_t{0}, cells.blocks.size(), [&](std::size_t b) {
-      const std::size_t begin = b * block, end = std::min(n, begin + block);
-      const std::int64_t first = cell_of<D>(x + D * begin, shift, length, count, shear);
-      std::int64_t low = 0, high = 0;
+    for_each_block(cells, n, [&](std::size_t begin, std::size_t end) {
       for (std::size_t i = begin; i < end; ++i) {
-        const std::uint32_t c = cell_of<D>(x + D * i, shift, length, count, shear);
-        cell[i] = c;
+        cell[i] = cell_of<D>(x + D * i, shift, length, count, shear);
         if (image) image[i] = static_cast<std::int8_t>(shear_image<D>(x + D * i, shift, length));
-        // Distance from the block's first cell, the short way round.
-        std::int64_t d = static_cast<std::int64_t>(c) - first;
-        if (2 * d > cell_count) d -= cell_count;
-        if (2 * d <= -cell_count) d += cell_count;
-        low = std::min(low, d);
-        high = std::max(high, d);
       }
-      cells.blocks[b] = {static_cast<std::uint32_t>((first + low + cell_count) % cell_count),
-                         static_cast<std::uint32_t>(std::min(high - low, cell_count - 1))};
     });
   }
 
   // assign, then the counting sort: `order` lists the particles cell by
   // cell in index order, `start` where each cell's list begins, and `count`
   // how many each cell holds.
+  // Runs fill(begin, end) over every block of particles in parallel, the
+  // block's cells being set in cells.cell by it; then records each block's
+  // range of cells.
+  template <class Fill>
+  static void for_each_block(SrdCells<D>& cells, std::size_t n, Fill&& fill) {
+    const std::size_t block = SrdCells<D>::block_size;
+    cells.blocks.resize((n + block - 1) / block);
+    const auto cell_count = static_cast<std::int64_t>(cells.cell_count());
+    tbb::parallel_for(std::size_t{0}, cells.blocks.size(), [&](std::size_t b) {
+      const std::size_t begin = b * block, end = std::min(n, begin + block);
+      fill(begin, end);
+      const std::uint32_t* cell = cells.cell.data();
+      const std::int64_t first = cell[begin];
+      std::int64_t low = 0, high = 0;
+      for (std::size_t i = begin; i < end; ++i) {
+        // Distance from the block's first cell, the short way round.
+        std::int64_t d = static_cast<std::int64_t>(cell[i]) - first;
+        if (2 * d > cell_count) d -= cell_count;
+        if (2 * d <= -cell_count) d += cell_count;
+        low = std::min(low, d);
+        high = std::max(high, d);
+      }
+      cells.blocks[b] = {static_cast<std::uint32_t>((first + low + cell_count) % cell_count),
+                         static_cast<std::uint32_t>(high - low)};
+    });
+  }
+
   static void bin(const World& world, SrdCells<D>& cells) {
     assign(world, cells);
     const std::size_t n = world.size();
@@ -107,18 +119,27 @@ class SrdCellBinning : public System {
       for (std::size_t i = k * per_chunk; i < std::min(n, (k + 1) * per_chunk); ++i) ++mine[cell[i]];
     });
     // Exclusive prefix over (cell, chunk): chunk k of cell c starts after all
-    // of cell c's earlier chunks.
+    // of cell c's earlier chunks. The cells' totals, their prefix sum, then
+    // each cell's chunks, in parallel but for the plain sum over cells.
+    tbb::parallel_for(std::size_t{0}, cell_count, [&](std::size_t c) {
+      std::uint32_t total = 0;
+      for (std::size_t k = 0; k < chunks; ++k) total += counts[k * cell_count + c];
+      cells.count[c] = total;
+    });
     std::uint32_t running = 0;
     for (std::size_t c = 0; c < cell_count; ++c) {
       cells.start[c] = running;
-      for (std::size_t k = 0; k < chunks; ++k) {
-        const std::uint32_t here = counts[k * cell_count + c];
-        counts[k * cell_count + c] = running;
-        running += here;
-      }
-      cells.count[c] = running - cells.start[c];
+      running += cells.count[c];
     }
     cells.start[cell_count] = running;
+    tbb::parallel_for(std::size_t{0}, cell_count, [&](std::size_t c) {
+      std::uint32_t next = cells.start[c];
+      for (std::size_t k = 0; k < chunks; ++k) {
+        const std::uint32_t here = counts[k * cell_count + c];
+        counts[k * cell_count + c] = next;
+        next += here;
+      }
+    });
     std::uint32_t* order = cells.order.data();
     tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
       std::uint32_t* next = counts + k * cell_count;
@@ -132,7 +153,19 @@ class SrdCellBinning : public System {
   static void sort(World& world, SrdCells<D>& cells) {
     bin(world, cells);
     world.permute(cells.order);
-    assign(world, cells);
+    // The cells follow the particles, and the blocks the cells.
+    const std::uint32_t* order = cells.order.data();
+    std::vector<std::uint32_t> cell(cells.cell.size());
+    std::vector<std::int8_t> image(cells.image.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cell.size(), 1u << 14), [&](const auto& range) {
+      for (std::size_t k = range.begin(); k != range.end(); ++k) {
+        cell[k] = cells.cell[order[k]];
+        if (!image.empty()) image[k] = cells.image[order[k]];
+      }
+    });
+    cells.cell.swap(cell);
+    cells.image.swap(image);
+    for_each_block(cells, cells.cell.size(), [](std::size_t, std::size_t) {});
     std::iota(cells.order.begin(), cells.order.end(), 0u);
   }
 

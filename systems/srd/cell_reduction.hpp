@@ -58,10 +58,7 @@ class SrdCellReduction : public System {
     const double y_shift = D >= 2 ? cells.shift[1] : 0.0;
     // Raw columns, so that the compiler knows the sums do not move them.
     std::uint32_t* count = cells.count.data();
-    double* total = cells.mass.data();
-    double* sum = cells.velocity.data()->data();  // sum m (v - reference), until the end
-    double* squares = cells.theta.data();           // sum m |v - reference|^2, likewise
-    double* reference = cells.reference.data()->data();
+    CellSums<D>* sums = cells.sums.data();
     double* moment = moments ? cells.moment.data()->data() : nullptr;
     double* moment_mass = moments ? cells.moment_mass.data() : nullptr;
     const double* v = velocity->data();
@@ -75,9 +72,6 @@ class SrdCellReduction : public System {
         [&](const auto& range) {
           const auto begin = static_cast<std::uint32_t>(range.begin()), end = static_cast<std::uint32_t>(range.end());
           std::fill(count + begin, count + end, 0u);
-          std::fill(total + begin, total + end, 0.0);
-          std::fill(sum + D * begin, sum + D * end, 0.0);
-          std::fill(squares + begin, squares + end, 0.0);
           if (moments) {
             std::fill(moment + D * begin, moment + D * end, 0.0);
             std::fill(moment_mass + begin, moment_mass + end, 0.0);
@@ -91,18 +85,24 @@ class SrdCellReduction : public System {
               double seen[D];
               for (int a = 0; a < D; ++a) seen[a] = v[D * i + a];
               if (image) seen[0] -= image[i] * image_speed;
-              double* ref = reference + D * c;
-              if (count[c]++ == 0)
-                for (int a = 0; a < D; ++a) ref[a] = seen[a];
+              CellSums<D>& s = sums[c];
+              if (count[c]++ == 0) {
+                for (int a = 0; a < D; ++a) {
+                  s.reference[a] = seen[a];
+                  s.sum[a] = 0.0;
+                }
+                s.squares = 0.0;
+                s.mass = 0.0;
+              }
               const double m = mass ? mass[i] : m0;
               double w[D], w2 = 0.0;
               for (int a = 0; a < D; ++a) {
-                w[a] = seen[a] - ref[a];
+                w[a] = seen[a] - s.reference[a];
                 w2 += w[a] * w[a];
               }
-              total[c] += m;
-              for (int a = 0; a < D; ++a) sum[D * c + a] += m * w[a];
-              squares[c] += m * w2;
+              s.mass += m;
+              for (int a = 0; a < D; ++a) s.sum[a] += m * w[a];
+              s.squares += m * w2;
               if (moments) {
                 const double y = x[D * i + 1] + y_shift;
                 const double offset = m * (y - static_cast<double>(floor_index(y)) - 0.5);  // from the cell's centre
@@ -112,15 +112,22 @@ class SrdCellReduction : public System {
             }
           }
           for (std::uint32_t c = begin; c < end; ++c) {
-            if (count[c] == 0) continue;
-            double drift[D], variance = squares[c];  // drift: V - reference
-            for (int a = 0; a < D; ++a) {
-              drift[a] = sum[D * c + a] / total[c];
-              variance -= sum[D * c + a] * drift[a];
-              sum[D * c + a] = reference[D * c + a] + drift[a];
-              if (moments) moment[D * c + a] -= moment_mass[c] * drift[a];
+            if (count[c] == 0) {
+              cells.mass[c] = 0.0;
+              cells.velocity[c] = Vec<D>::Zero();
+              cells.theta[c] = 0.0;
+              continue;
             }
-            squares[c] = std::max(0.0, variance) / (D * static_cast<double>(count[c]));
+            const CellSums<D>& s = sums[c];
+            double variance = s.squares;
+            for (int a = 0; a < D; ++a) {
+              const double drift = s.sum[a] / s.mass;  // V - reference
+              variance -= s.sum[a] * drift;
+              cells.velocity[c][a] = s.reference[a] + drift;
+              if (moments) moment[D * c + a] -= moment_mass[c] * drift;
+            }
+            cells.mass[c] = s.mass;
+            cells.theta[c] = std::max(0.0, variance) / (D * static_cast<double>(count[c]));
           }
         },
         tbb::simple_partitioner{});

@@ -36,6 +36,16 @@ struct BlockCells {
   }
 };
 
+// A cell's running sums in the reduction, together in one cache line: taken
+// about the velocity `reference` of the cell's first particle.
+template <int D>
+struct alignas(64) CellSums {
+  double reference[D];
+  double sum[D];      // sum m (v - reference)
+  double squares;     // sum m |v - reference|^2
+  double mass;
+};
+
 template <int D>
 struct SrdCells {
   static constexpr const char* key = "srd_cells";
@@ -62,7 +72,7 @@ struct SrdCells {
   std::vector<double> mass;          // per cell
   std::vector<Vec<D>> velocity;      // per cell: mean velocity V
   std::vector<double> theta;         // per cell: sum m |v - V|^2 / (D n)
-  std::vector<Vec<D>> reference;     // the reduction's scratch: the velocity its sums are taken about
+  std::vector<CellSums<D>> sums;     // the reduction's scratch
   // Per cell, with record_moments: sum m (v - V) (y - y_cell), and the
   // reduction's scratch sum m (y - y_cell).
   std::vector<Vec<D>> moment;
@@ -84,7 +94,7 @@ struct SrdCells {
     mass.assign(total, 0.0);
     velocity.assign(total, Vec<D>::Zero());
     theta.assign(total, 0.0);
-    reference.assign(total, Vec<D>::Zero());
+    sums.resize(total);
     transfer.assign(total, 0.0);
   }
   std::size_t cell_count() const { return mass.size(); }
