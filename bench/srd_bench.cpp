@@ -33,10 +33,10 @@ using namespace granflow;
 
 constexpr int side = 46;
 
-// SRD_REORDER sets the steps between reorderings (default 20).
+// SRD_REORDER sets the steps between reorderings (default 10, as srd.reorder_interval).
 std::uint64_t reorder_interval() {
   const char* text = std::getenv("SRD_REORDER");
-  return text ? std::strtoull(text, nullptr, 10) : 20;
+  return text ? std::strtoull(text, nullptr, 10) : 10;
 }
 constexpr std::size_t per_cell = 10;
 

@@ -3,7 +3,7 @@
 // systems/srd/srd_theory.hpp, the convective energy, density fluctuations and
 // Mach number that show the onset of clustering (at lower restitution and
 // angle, e.g. srd.restitution = 0.98, srd.rotation_angle = 10), and the
-// Sonine coefficients of the velocity distribution.
+// velocity distribution in c = v / v_T with its Sonine coefficients.
 
 #include <spdlog/spdlog.h>
 
@@ -17,6 +17,7 @@
 #include "systems/srd/srd_fields.hpp"
 #include "systems/srd/srd_setup.hpp"
 #include "systems/srd/srd_state_observer.hpp"
+#include "systems/srd/velocity_distribution.hpp"
 #include "systems/srd/srd_theory.hpp"
 
 namespace granflow::scenarios {
@@ -44,8 +45,17 @@ void build(Run& run) {
                                          n0, c.real("srd.temperature"));
   run.derive("haff_tau", tau);
   run.derive("initial_temperature", c.real("srd.temperature"));
-  run.observe<srd::SrdStateObserver<D>>(
-      std::make_shared<AtSteps>(log_steps(c.integer("run.steps"), static_cast<int>(c.integer("output.points_per_decade")))));
+  const auto outputs =
+      std::make_shared<AtSteps>(log_steps(c.integer("run.steps"), static_cast<int>(c.integer("output.points_per_decade"))));
+  run.observe<srd::SrdStateObserver<D>>(outputs);
+  const auto bins = static_cast<std::size_t>(c.integer("output.distribution_bins"));
+  run.observe<srd::VelocityDistributionObserver<D>>(outputs, bins);
+  run.at_finish([bins](H5mdFile& file, const RunOutcome&) {
+    const std::string group = "/observables/velocity_distribution";
+    file.write_attribute(group, "variable", "c = |v - <v>| / sqrt(2 T_g / m), T_g the granular temperature");
+    file.write_attribute(group, "c_max", srd::reduced_speed_max);
+    file.write_attribute(group, "bins", static_cast<double>(bins));
+  });
   run.at_finish([&run, tau](H5mdFile&, const RunOutcome&) {
     const double t = run.clock().time;
     spdlog::info("t = {:.4g} ({} steps): Haff's law predicts T/T0 = {:.4g}", t, run.clock().step,
@@ -72,6 +82,7 @@ GRANFLOW_REGISTER_SCENARIO(gsrd_cooling, Scenario{
     d.steps = 20000;
     srd::declare_srd_keys(s, d);
     s.integer("output.points_per_decade", 20, 1, 1000, "outputs per decade of steps");
+    s.integer("output.distribution_bins", 40, 2, 100000, "bins of velocity_distribution in c = |v - <v>| / v_T, over [0, 4)");
   },
   .build = [](Run& run) { run.config().integer("system.dimension") == 2 ? build<2>(run) : build<3>(run); },
 })

@@ -364,7 +364,7 @@ def plot_gsrd_cooling(files, output):
     _, mach = series(f, "mach_number")
     T0 = T[0]
     keep = t > 0
-    fig, axes = plt.subplots(2, 2, figsize=(11, 8))
+    fig, axes = plt.subplots(2, 3, figsize=(16, 8))
     ax = axes[0, 0]
     ax.loglog(t[keep], T[keep] / T0, "o", ms=3, label="granular temperature T / T0")
     ax.loglog(t[keep], E[keep] / T0, "s", ms=3, mfc="none", label="convective energy E_kin / T0")
@@ -383,6 +383,29 @@ def plot_gsrd_cooling(files, output):
     axes[1, 1].axhline(1.0, color="k", lw=0.8)
     axes[1, 1].set_xlabel("t [T]")
     axes[1, 1].set_ylabel("global Mach number")
+    dim = int(f["/parameters/system"].attrs["dimension"])
+    ax = axes[0, 2]
+    if "velocity_distribution" in f["/observables"]:
+        group = f["/observables/velocity_distribution"]
+        bins, c_max = int(group.attrs["bins"]), float(group.attrs["c_max"])
+        centres = (np.arange(bins) + 0.5) * c_max / bins
+        times, values = group["time"][()], group["value"][()]
+        for row, style in ((0, "o"), (len(times) - 1, "s")):
+            ax.semilogy(centres, values[row], style, ms=3, mfc="none", label=f"t = {times[row]:.3g}")
+        c = np.linspace(0.0, c_max, 400)
+        x = c * c
+        maxwell = 4 / np.sqrt(np.pi) * x * np.exp(-x) if dim == 3 else 2 * c * np.exp(-x)
+        ax.semilogy(c, maxwell, "k-", lw=0.8, label="Maxwellian")
+        last_a2 = a2[-1]
+        sonine = maxwell * (1 + last_a2 * (x * x / 2 - (dim + 2) * x / 2 + dim * (dim + 2) / 8))
+        ax.semilogy(c, np.clip(sonine, 1e-12, None), "r--", lw=0.8, label=f"Sonine, a2 = {last_a2:.3g} (last)")
+        ax.set_ylim(max(1e-6, values[values > 0].min() / 2), 1.5)
+        ax.set_xlabel(r"$c = |v - \langle v \rangle| / \sqrt{2 T_g / m}$")
+        ax.set_ylabel("f(c)")
+        ax.legend(fontsize=7)
+    else:
+        ax.set_visible(False)
+    axes[1, 2].set_visible(False)
     eps = float(f["/parameters/srd"].attrs["restitution"])
     fig.suptitle(f"granular SRD cooling, $\\epsilon$ = {eps:g}")
     save(fig, output)

@@ -56,16 +56,19 @@ class SrdCellBinning : public System {
     const std::size_t n = world.size();
     cells.cell.resize(n);
     cells.image.resize(D >= 2 && cells.shear.velocity != 0.0 ? n : 0);
-    std::uint32_t* cell = cells.cell.data();
-    std::int8_t* image = cells.image.empty() ? nullptr : cells.image.data();
-    const double* shift = cells.shift.data();
-    const double* length = cells.length.data();
-    const std::int32_t* count = cells.cells.data();
-    const Shear shear = cells.shear;
+    std::uint32_t* const cell_column = cells.cell.data();
+    std::int8_t* const image_column = cells.image.empty() ? nullptr : cells.image.data();
+    const SrdCells<D>& grid = cells;
     for_each_block(cells, n, [&](std::size_t begin, std::size_t end) {
+      // Local copies: the int8 stores may alias anything the lambda refers to.
+      std::array<double, D> shift = grid.shift, length = grid.length;
+      std::array<std::int32_t, D> count = grid.cells;
+      const Shear shear = grid.shear;
+      std::uint32_t* cell = cell_column;
+      std::int8_t* image = image_column;
       for (std::size_t i = begin; i < end; ++i) {
-        cell[i] = cell_of<D>(x + D * i, shift, length, count, shear);
-        if (image) image[i] = static_cast<std::int8_t>(shear_image<D>(x + D * i, shift, length));
+        cell[i] = cell_of<D>(x + D * i, shift.data(), length.data(), count.data(), shear);
+        if (image) image[i] = static_cast<std::int8_t>(shear_image<D>(x + D * i, shift.data(), length.data()));
       }
     });
   }

@@ -123,6 +123,7 @@ class SrdRotation : public System {
     const CellCollision* collisions = collisions_.data();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 4096), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        if (i + prefetch_distance < range.end()) prefetch(collisions + cell[i + prefetch_distance]);
         const CellCollision& collision = collisions[cell[i]];
         collide_particle<D>(v + D * i, collision.matrix, collision.mean, image ? -image[i] * image_speed : 0.0);
       }

@@ -59,7 +59,7 @@ inline void declare_srd_keys(ConfigSchema& s, const SrdDefaults& d) {
       .choice("srd.dissipation", "rotated_plane", {"rotated_plane", "random_axis", "whole"},
               "granular rule: scale the rotated thermal components (the rotation's plane; all in 2D), only along a "
               "random axis, or the whole rotated velocity")
-      .integer("srd.reorder_interval", 50, 0, 1000000000, "steps between putting particles in cell order (0: never)")
+      .integer("srd.reorder_interval", 10, 0, 1000000000, "steps between putting particles in cell order (0: never)")
       .real("shear.rate", d.shear_rate, 0.0, inf, "shear rate du_x/dy through Lees-Edwards planes along y (0: none)")
       .real("thermostat.temperature", d.thermostat, 0.0, inf, "target temperature of the global thermostat (0: none)")
       .integer("run.steps", d.steps, 1, 1000000000000, "collision steps to run")

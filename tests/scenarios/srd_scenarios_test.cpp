@@ -127,6 +127,51 @@ TEST(GsrdCooling, HaffTimeMatchesTheMeanFieldTheory) {
   EXPECT_LT(worst, 0.04);
 }
 
+// The Maxwellian in c = |v| / sqrt(2T/m) times the Sonine correction
+// 1 + a2 S2(c^2), S2(x) = x^2/2 - (D+2) x/2 + D(D+2)/8.
+double sonine_density(int dimension, double c, double a2) {
+  const double d = dimension, x = c * c;
+  const double maxwell = dimension == 3 ? 4.0 / std::sqrt(std::numbers::pi) * x * std::exp(-x) : 2.0 * c * std::exp(-x);
+  return maxwell * (1.0 + a2 * (0.5 * x * x - 0.5 * (d + 2.0) * x + d * (d + 2.0) / 8.0));
+}
+
+TEST(GsrdCooling, VelocityDistributionIsTheSonineCorrectedMaxwellian) {
+  Config config(scenario_schema("gsrd_cooling"));
+  config.set("system.cells", std::vector<double>{16, 16, 16});
+  config.set("run.steps", std::int64_t{1000});
+  const auto file = run("gsrd_cooling", config, "distribution");
+  const double bins = file.double_attribute("/observables/velocity_distribution", "bins");
+  const double c_max = file.double_attribute("/observables/velocity_distribution", "c_max");
+  const auto f = file.doubles("/observables/velocity_distribution/value").values;
+  const auto a2 = file.doubles("/observables/sonine_a2/value").values;
+  const auto width = c_max / bins;
+  const auto rows = f.size() / static_cast<std::size_t>(bins);
+  ASSERT_EQ(rows, a2.size());
+  const double n = 16.0 * 16.0 * 16.0 * 10.0;
+  // The first output (the initial Maxwellian) and the last (the cooling
+  // state, T/T0 about 0.02): each bin expecting at least 5 particles within
+  // 5 Poisson standard errors of the bin average of the Sonine-corrected
+  // Maxwellian with the measured a2.
+  for (const std::size_t row : {std::size_t{0}, rows - 1}) {
+    double integral = 0.0, worst = 0.0;
+    for (std::size_t k = 0; k < static_cast<std::size_t>(bins); ++k) {
+      const double measured = f[row * static_cast<std::size_t>(bins) + k];
+      const double lo = k * width, hi = lo + width;
+      const double expected = (  // Simpson over the bin
+          sonine_density(3, lo, a2[row]) + 4 * sonine_density(3, 0.5 * (lo + hi), a2[row]) +
+                  sonine_density(3, hi, a2[row])) / 6.0;
+      integral += measured * width;
+      if (expected * n * width < 5.0) continue;  // too few expected for the normal approximation
+      const double error = std::sqrt(expected / (n * width));
+      worst = std::max(worst, std::abs(measured - expected) / error);
+    }
+    std::printf("output %zu: a2 = %.4f, integral %.6f, largest deviation %.2f standard errors\n", row, a2[row], integral,
+                worst);
+    EXPECT_NEAR(integral, 1.0, 1e-4);  // the Maxwellian beyond c = 4: 1e-6
+    EXPECT_LT(worst, 5.0);
+  }
+}
+
 // Standard SRD steps on a World, driven directly (no output).
 template <int D>
 struct Fluid {
