@@ -1,15 +1,20 @@
 // SRD stepping speed: particle-steps per second of the whole 3D periodic SRD
 // step (streaming, grid shift, binning, cell reduction, rotation) at 10^6
 // particles, n0 = 10 (46^3 cells), on 1 and 2 threads, and the time of each
-// stage. Bytes moved per particle-step, for the bandwidth comparison with
-// sde_bench's Copy: positions and velocities are read and written by the
-// streaming (96 B), positions read by the binning (24 B), velocities read
-// twice by the reduction (48 B) and read and written by the rotation with
-// its positions (72 B), plus the cell and order arrays (about 24 B): about
-// 260 B per particle-step.
+// stage, and of one reordering (Sort). Bytes moved per particle-step, for
+// the bandwidth comparison with sde_bench's Copy: the streaming reads
+// positions and velocities and writes positions (72 B), the binning reads
+// positions and writes cells (28 B), the reduction reads cells and
+// velocities (28 B, and about a fifth again for blocks read by two ranges of
+// cells), the rotation reads cells and velocities and writes velocities
+// (52 B) with its cell records (96 B per cell, about 10 B per particle), the
+// per-cell sums about 10 B, and a reordering every 5 steps (counting sort
+// and the permutation of both columns, about 150 B) 30 B: about 235 B per
+// particle-step (at dt = 1).
 //
 //   build/bench/srd_bench
 //   SRD_REORDER=1 build/bench/srd_bench   # particles in cell order every step
+//   SRD_DT=0.02 build/bench/srd_bench     # the time step of LAMMPS's benchmark input
 
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
@@ -33,10 +38,17 @@ using namespace granflow;
 
 constexpr int side = 46;
 
-// SRD_REORDER sets the steps between reorderings (default 10, as srd.reorder_interval).
+// SRD_DT sets the time step (default 1: mean free path about one cell at
+// kT = 1; LAMMPS's benchmark input takes 0.02).
+double time_step() {
+  const char* text = std::getenv("SRD_DT");
+  return text ? std::strtod(text, nullptr) : 1.0;
+}
+// SRD_REORDER sets the steps between reorderings (default: from the mean
+// free path, as srd.reorder_interval = 0 does).
 std::uint64_t reorder_interval() {
   const char* text = std::getenv("SRD_REORDER");
-  return text ? std::strtoull(text, nullptr, 10) : 10;
+  return text ? std::strtoull(text, nullptr, 10) : srd::reorder_interval_for(time_step());
 }
 constexpr std::size_t per_cell = 10;
 
@@ -58,7 +70,7 @@ struct Fluid {
     srd::SrdCellBinning<3>::sort(world, cells);  // as the scenarios start
     srd::RotationParameters p;
     p.angle_degrees = 130.0;
-    stages.push_back(std::make_unique<srd::SrdStreaming<3>>(1.0, 0.0));
+    stages.push_back(std::make_unique<srd::SrdStreaming<3>>(time_step(), 0.0));
     stages.push_back(std::make_unique<srd::SrdGridShift<3>>(1, true));
     stages.push_back(std::make_unique<srd::SrdCellBinning<3>>(reorder_interval()));
     stages.push_back(std::make_unique<srd::SrdCellReduction<3>>());

@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <numeric>
 #include <vector>
@@ -27,6 +28,14 @@ namespace granflow::srd {
 
 inline const SystemDescription srd_cell_binning_description{
     "srd_cell_binning", "the shifted SRD cell of every particle; particle columns in cell order every k steps (counting sort)"};
+
+// The default steps between reorderings for particles that move `free_path`
+// cells per step along each axis (sqrt(kT/m) dt): locality is lost once they
+// have moved a few cells, and a reordering costs about five steps' binning.
+inline std::uint64_t reorder_interval_for(double free_path) {
+  if (!(free_path > 0.0)) return 100;
+  return static_cast<std::uint64_t>(std::clamp(std::llround(2.0 / free_path), 5ll, 100ll));
+}
 
 template <int D>
 class SrdCellBinning : public System {

@@ -59,7 +59,9 @@ inline void declare_srd_keys(ConfigSchema& s, const SrdDefaults& d) {
       .choice("srd.dissipation", "rotated_plane", {"rotated_plane", "random_axis", "whole"},
               "granular rule: scale the rotated thermal components (the rotation's plane; all in 2D), only along a "
               "random axis, or the whole rotated velocity")
-      .integer("srd.reorder_interval", 10, 0, 1000000000, "steps between putting particles in cell order (0: never)")
+      .integer("srd.reorder_interval", 0, 0, 1000000000,
+               "steps between putting particles in cell order (0: from the mean free path, 2 / (sqrt(kT) dt) "
+               "between 5 and 100)")
       .real("shear.rate", d.shear_rate, 0.0, inf, "shear rate du_x/dy through Lees-Edwards planes along y (0: none)")
       .real("thermostat.temperature", d.thermostat, 0.0, inf, "target temperature of the global thermostat (0: none)")
       .integer("run.steps", d.steps, 1, 1000000000000, "collision steps to run")
@@ -148,7 +150,12 @@ void add_srd_fluid(Run& run) {
   const double dt = c.real("srd.time_step");
   run.step<SrdStreaming<D>>(dt, rate);
   run.step<SrdGridShift<D>>(run.seed(), c.boolean("srd.grid_shift"));
-  run.step<SrdCellBinning<D>>(static_cast<std::uint64_t>(c.integer("srd.reorder_interval")));
+  const double hottest = std::max(temperature, c.real("thermostat.temperature"));
+  const auto interval = c.integer("srd.reorder_interval") > 0
+                            ? static_cast<std::uint64_t>(c.integer("srd.reorder_interval"))
+                            : reorder_interval_for(std::sqrt(hottest) * dt);
+  run.derive("reorder_interval", static_cast<double>(interval));
+  run.step<SrdCellBinning<D>>(interval);
   run.step<SrdCellReduction<D>>();
   run.step<SrdRotation<D>>(rotation_from(c), run.seed());
   if (c.real("thermostat.temperature") > 0.0) run.step<SrdThermostat<D>>(c.real("thermostat.temperature"));
