@@ -329,10 +329,30 @@ def plot_msd(files, output):
     save(fig, output)
 
 
+def draw_density_slice(ax, f):
+    """The last density field (/fields/density) in the plane z = L_z/2 (3D) or whole (2D)."""
+    if "fields" not in f or "density" not in f["/fields"]:
+        ax.set_visible(False)
+        return
+    group = f["/fields/density"]
+    value, t = group["value"][-1], group["time"][-1]
+    plane = value[value.shape[0] // 2] if value.ndim == 3 else value
+    image = ax.imshow(plane, origin="lower", cmap="viridis")
+    plt.colorbar(image, ax=ax, label="particles per cell")
+    where = f", z = {value.shape[0] // 2}" if value.ndim == 3 else ""
+    ax.set_title(f"density, t = {t:.3g}{where}", fontsize=10)
+    ax.set_xlabel("x [cells]")
+    ax.set_ylabel("y [cells]")
+
+
 def plot_srd_viscosity(files, output):
     f = files[0]
     derived = f["/parameters/derived"].attrs
-    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.4))
+    has_fields = "fields" in f and "density" in f["/fields"]
+    fig, axes = plt.subplots(1, 3 if has_fields else 2, figsize=(16 if has_fields else 11, 4.4))
+    left, right = axes[0], axes[1]
+    if has_fields:
+        draw_density_slice(axes[2], f)
     for name, colour in (("viscosity_kinetic", "C0"), ("viscosity_collisional", "C1")):
         t, nu = series(f, name)
         left.plot(t, nu, "-", color=colour, label=name.replace("_", " ") + " (running mean)")
@@ -405,7 +425,7 @@ def plot_gsrd_cooling(files, output):
         ax.legend(fontsize=7)
     else:
         ax.set_visible(False)
-    axes[1, 2].set_visible(False)
+    draw_density_slice(axes[1, 2], f)
     eps = float(f["/parameters/srd"].attrs["restitution"])
     fig.suptitle(f"granular SRD cooling, $\\epsilon$ = {eps:g}")
     save(fig, output)
