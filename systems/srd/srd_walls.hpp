@@ -1,0 +1,149 @@
+#pragma once
+// Walls of an SRD box and streaming between them under a constant body
+// force, as functions of one particle that the CPU systems and the CUDA
+// kernels share (Lamura et al. 2001; Gompper et al. 2009, sec. 3.4).
+//
+// A wall is a plane perpendicular to one axis. The lower wall of an axis
+// bounds the fluid from below, the upper one from above; either may move
+// along its normal as rest + A sin(omega t). A particle that reaches a wall
+// within a step is reflected at the exact time it meets it: bounce-back
+// (no-slip: the velocity relative to the wall reversed) or specular (slip:
+// only the normal component reversed, relative to the wall), then streams
+// on for the rest of the step. With a constant acceleration g the flight
+// between reflections is exact: x + v s + g s^2 / 2.
+
+#include <cmath>
+
+#include "engine/host_device.hpp"
+
+namespace granflow::srd {
+
+enum class WallKind : int { no_slip = 0, slip = 1 };
+
+struct Wall {
+  int axis = 0;
+  int side = -1;  // -1: lower wall (fluid on its + side), +1: upper wall
+  WallKind kind = WallKind::no_slip;
+  double rest = 0.0;       // position at rest (or the centre of its motion)
+  double amplitude = 0.0;  // of rest + amplitude sin(omega t)
+  double omega = 0.0;
+  double temperature = 0.0;  // of its ghost particles
+
+  GRANFLOW_HD double position(double t) const { return rest + amplitude * std::sin(omega * t); }
+  GRANFLOW_HD double velocity(double t) const { return amplitude * omega * std::cos(omega * t); }
+  GRANFLOW_HD bool moving() const { return amplitude != 0.0 && omega != 0.0; }
+};
+
+// How far inside the fluid a coordinate lies, seen from the wall at time t
+// (negative: beyond the wall).
+GRANFLOW_HD inline double depth(const Wall& wall, double coordinate, double t) {
+  return wall.side < 0 ? coordinate - wall.position(t) : wall.position(t) - coordinate;
+}
+
+// The first time in (0, span] at which a particle starting at coordinate x
+// with velocity v and acceleration g (along the wall's axis) at time t0
+// meets the wall, or a negative number if it does not within span. A fixed
+// wall: the smaller positive root of a quadratic. A moving wall: the root
+// of depth(s) bracketed by 0 (inside) and the first sampled s beyond the
+// wall, refined by bisection to round-off.
+GRANFLOW_HD inline double wall_hit_time(const Wall& wall, double x, double v, double g, double t0, double span) {
+  const auto depth_at = [&](double s) { return depth(wall, x + v * s + 0.5 * g * s * s, t0 + s); };
+  if (!wall.moving()) {
+    // depth(s) = d0 + b s + a s^2 with b = sigma v, a = sigma g / 2, sigma = -side.
+    const double sigma = wall.side < 0 ? 1.0 : -1.0;
+    const double d0 = depth_at(0.0), b = sigma * v, a = 0.5 * sigma * g;
+    double roots[2];
+    int count = 0;
+    if (a == 0.0) {
+      if (b != 0.0) roots[count++] = -d0 / b;
+    } else {
+      const double discriminant = b * b - 4.0 * a * d0;
+      if (discriminant < 0.0) return -1.0;
+      // Both roots without cancellation; q = 0 only for the double root 0.
+      const double q = -0.5 * (b + (b >= 0.0 ? 1.0 : -1.0) * std::sqrt(discriminant));
+      roots[count++] = q / a;
+      roots[count++] = q != 0.0 ? d0 / q : 0.0;
+    }
+    // The earliest crossing ahead; one at s = 0 (on the wall) only if it is moving out.
+    double first = -1.0;
+    for (int k = 0; k < count; ++k) {
+      const double r = roots[k];
+      if ((r > 0.0 || (r == 0.0 && b < 0.0)) && r <= span && (first < 0.0 || r < first)) first = r;
+    }
+    return first;
+  }
+  // A moving wall: sample the step finely enough for the wall's motion,
+  // then bisect the first interval that ends beyond the wall.
+  constexpr int samples = 8;
+  double previous = 0.0;
+  for (int k = 1; k <= samples; ++k) {
+    const double s = span * k / samples;
+    if (depth_at(s) > 0.0) {
+      previous = s;
+      continue;
+    }
+    double inside = previous, outside = s;
+    for (int iteration = 0; iteration < 60 && outside - inside > 1e-15 * span; ++iteration) {
+      const double middle = 0.5 * (inside + outside);
+      (depth_at(middle) > 0.0 ? inside : outside) = middle;
+    }
+    return outside;
+  }
+  return -1.0;
+}
+
+// The particle's velocity after meeting `wall` at time t (its velocity
+// relative to the moving wall reversed: all of it for no-slip, its normal
+// component for slip).
+template <int D>
+GRANFLOW_HD inline void reflect(const Wall& wall, double t, double* v) {
+  const double u = wall.velocity(t);
+  if (wall.kind == WallKind::no_slip) {
+    for (int a = 0; a < D; ++a) v[a] = -v[a];
+    v[wall.axis] += 2.0 * u;
+  } else {
+    v[wall.axis] = 2.0 * u - v[wall.axis];
+  }
+}
+
+// Streams one particle over [t0, t0 + dt] under acceleration g between the
+// walls (at most `wall_count`), reflecting it at each wall it meets. Returns
+// the number of reflections. Axes without walls are left for the periodic
+// wrapping of the caller.
+template <int D>
+GRANFLOW_HD inline int stream_between_walls(double* x, double* v, const double* g, double t0, double dt,
+                                            const Wall* walls, int wall_count) {
+  double done = 0.0;
+  int reflections = 0;
+  // Enough for any physical step; beyond it the particle is put back inside.
+  constexpr int most = 64;
+  while (reflections < most) {
+    const double left = dt - done;
+    int first = -1;
+    double hit = left;
+    for (int w = 0; w < wall_count; ++w) {
+      const int a = walls[w].axis;
+      const double s = wall_hit_time(walls[w], x[a], v[a], g[a], t0 + done, left);
+      if (s >= 0.0 && (first < 0 || s < hit)) {
+        first = w;
+        hit = s;
+      }
+    }
+    const double s = first < 0 ? left : hit;
+    for (int a = 0; a < D; ++a) {
+      x[a] += v[a] * s + 0.5 * g[a] * s * s;
+      v[a] += g[a] * s;
+    }
+    done += s;
+    if (first < 0) break;
+    // Exactly on the wall, not a round-off beyond it.
+    x[walls[first].axis] = walls[first].position(t0 + done);
+    reflect<D>(walls[first], t0 + done, v);
+    ++reflections;
+  }
+  for (int w = 0; w < wall_count; ++w)
+    if (depth(walls[w], x[walls[w].axis], t0 + dt) < 0.0) x[walls[w].axis] = walls[w].position(t0 + dt);
+  return reflections;
+}
+
+}  // namespace granflow::srd
