@@ -17,5 +17,6 @@ inline constexpr std::uint32_t run_seed = 8;         // seeds of the independent
 inline constexpr std::uint32_t srd_grid_shift = 9;   // the SRD grid's random shift, keyed by step
 inline constexpr std::uint32_t srd_rotation = 10;    // each SRD cell's rotation (sign or axis), keyed by step and cell
 inline constexpr std::uint32_t srd_initial = 11;     // initial positions and velocities of SRD particles
+inline constexpr std::uint32_t srd_ghosts = 12;      // the ghost particles of SRD cells cut by a wall, keyed by step and cell
 
 }  // namespace granflow::stream

@@ -70,13 +70,14 @@ class SrdCellBinning : public System {
     const SrdCells<D>& grid = cells;
     for_each_block(cells, n, [&](std::size_t begin, std::size_t end) {
       // Local copies: the int8 stores may alias anything the lambda refers to.
-      std::array<double, D> shift = grid.shift, length = grid.length;
+      std::array<double, D> shift = grid.shift, length = grid.length, origin = grid.origin;
       std::array<std::int32_t, D> count = grid.cells;
       const Shear shear = grid.shear;
+      const unsigned bounded = grid.bounded;
       std::uint32_t* cell = cell_column;
       std::int8_t* image = image_column;
       for (std::size_t i = begin; i < end; ++i) {
-        cell[i] = cell_of<D>(x + D * i, shift.data(), length.data(), count.data(), shear);
+        cell[i] = cell_of<D>(x + D * i, shift.data(), length.data(), count.data(), shear, origin.data(), bounded);
         if (image) image[i] = static_cast<std::int8_t>(shear_image<D>(x + D * i, shift.data(), length.data()));
       }
     });

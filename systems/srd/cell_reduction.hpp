@@ -17,9 +17,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "components/clock.hpp"
 #include "components/mass.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
+#include "engine/rng.hpp"
+#include "engine/stream_ids.hpp"
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
@@ -34,12 +37,50 @@ template <int D>
 class SrdCellReduction : public System {
  public:
   std::string name() const override { return "srd_cell_reduction"; }
-  Access access() const override { return Access{}.reads<Position<D>, Velocity<D>>().template writes<SrdCells<D>>(); }
+  Access access() const override {
+    return Access{}.reads<Clock, Position<D>, Velocity<D>>().template writes<SrdCells<D>>();
+  }
 
   void run(World& world) override { reduce(world, world.resource<SrdCells<D>>()); }
 
+  // Fills cell c, if a no-slip wall cuts it and it holds fewer than
+  // cells.ghost_fill particles, up to that many with ghost particles
+  // (srd_walls.hpp), keyed by (seed, step, cell). Cells no particle is in
+  // get none: they have nothing to rotate.
+  static void add_ghosts(SrdCells<D>& cells, std::uint32_t c, double time, std::uint64_t step) {
+    cells.ghosts[c] = 0;
+    if (cells.count[c] == 0) return;
+    for (const Wall& wall : cells.walls) {
+      if (wall.kind != WallKind::no_slip) continue;
+      const int a = wall.axis;
+      std::uint32_t stride = 1;
+      for (int b = 0; b < a; ++b) stride *= static_cast<std::uint32_t>(cells.cells[b]);
+      const auto layer = static_cast<std::int64_t>((c / stride) % static_cast<std::uint32_t>(cells.cells[a]));
+      if (layer != floor_index(wall.position(time) + cells.shift[a] - cells.origin[a])) continue;
+      const auto missing = static_cast<int>(std::llround(cells.ghost_fill)) - static_cast<int>(cells.count[c]);
+      if (missing <= 0) return;
+      Philox random(stream::srd_ghosts, cells.seed, step, c);
+      const GhostSums ghosts = ghost_sums<D>(missing, wall, time, cells.particle_mass, random);
+      // Added to the sums about the reference: m n (mean - r) and m (scatter + n |mean - r|^2).
+      CellSums<D>& s = cells.sums[c];
+      const double m = cells.particle_mass * missing;
+      double offset2 = 0.0;
+      for (int b = 0; b < D; ++b) {
+        const double offset = ghosts.mean[b] - s.reference[b];
+        s.sum[b] += m * offset;
+        offset2 += offset * offset;
+      }
+      s.squares += cells.particle_mass * ghosts.scatter + m * offset2;
+      s.mass += m;
+      cells.ghosts[c] = static_cast<std::uint32_t>(missing);
+      return;  // one wall per cell: the grid is at least three layers deep between walls
+    }
+  }
+
   // Needs SrdCellBinning::assign's cells and blocks of the current positions.
   static void reduce(const World& world, SrdCells<D>& cells) {
+    const double time = world.resource<Clock>().time;
+    const auto step = static_cast<std::uint64_t>(world.resource<Clock>().step);
     const Vec<D>* velocity = world.component<Velocity<D>>().data();  // D doubles each, packed
     const double* x = world.component<Position<D>>().data()->data();
     const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
@@ -111,6 +152,8 @@ class SrdCellReduction : public System {
               }
             }
           }
+          if (!cells.walls.empty())
+            for (std::uint32_t c = begin; c < end; ++c) add_ghosts(cells, c, time, step);
           for (std::uint32_t c = begin; c < end; ++c) {
             if (count[c] == 0) {
               cells.mass[c] = 0.0;
@@ -127,7 +170,8 @@ class SrdCellReduction : public System {
               if (moments) moment[D * c + a] -= moment_mass[c] * drift;
             }
             cells.mass[c] = s.mass;
-            cells.theta[c] = std::max(0.0, variance) / (D * static_cast<double>(count[c]));
+            const double members = count[c] + (cells.ghosts.empty() ? 0.0 : cells.ghosts[c]);
+            cells.theta[c] = std::max(0.0, variance) / (D * members);
           }
         },
         tbb::simple_partitioner{});

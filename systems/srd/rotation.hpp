@@ -93,15 +93,15 @@ class SrdRotation : public System {
         CellCollision& collision = collisions_[c];
         for (int a = 0; a < D; ++a) collision.mean[a] = cells.velocity[c][a];
         cells.transfer[c] = 0.0;
-        if (cells.count[c] < 2) {  // one particle has no thermal velocity
+        const double members = cells.count[c] + (cells.ghosts.empty() ? 0.0 : cells.ghosts[c]);
+        if (members < 2) {  // one particle has no thermal velocity
           for (int a = 0; a < D * D; ++a) collision.matrix[a] = a % (D + 1) == 0 ? 1.0 : 0.0;
           continue;
         }
         CellRotation<D> r = cell_rotation<D>(base_, seed_, step, c);
         if (granular) {
           bool below_zero = false;
-          r.eps = effective_restitution(p_.restitution, p_.diameter, static_cast<double>(cells.count[c]), cells.theta[c],
-                                        p_.dt, below_zero);
+          r.eps = effective_restitution(p_.restitution, p_.diameter, members, cells.theta[c], p_.dt, below_zero);
           clamped_here += below_zero;
         }
         r.matrix(collision.matrix);

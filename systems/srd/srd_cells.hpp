@@ -12,12 +12,15 @@
 // into it, and sums each cell's particles in storage order, so the cell sums
 // do not depend on how the cells are split over threads.
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
 #include "components/vector.hpp"
 #include "systems/srd/srd_kernels.hpp"
+#include "systems/srd/srd_walls.hpp"
 
 namespace granflow::srd {
 
@@ -62,8 +65,11 @@ struct SrdCells {
   static constexpr const char* key = "srd_cells";
   static constexpr std::size_t block_size = 4096;  // particles per BlockCells
 
-  std::array<std::int32_t, D> cells{};
-  std::array<double, D> length{};
+  std::array<std::int32_t, D> cells{};  // of the grid (along a bounded axis: with the layers beyond its walls)
+  std::array<double, D> length{};       // of the periodic box
+  std::array<double, D> origin{};       // where a bounded axis's first cell starts (0 when periodic)
+  unsigned bounded = 0;                 // bit a: axis a ends at walls
+  std::vector<Wall> walls;
   std::array<double, D> shift{};
   Shear shear;
   double particle_mass = 1.0;  // where the World has no Mass column
@@ -93,12 +99,36 @@ struct SrdCells {
   std::vector<double> transfer;
   std::uint64_t clamped_cells = 0;
 
-  SrdCells(std::array<std::int32_t, D> cells_per_axis, std::size_t particles) : cells(cells_per_axis) {
+  // Ghost particles (with walls): the mean particles per cell they fill a
+  // cut cell up to, the seed and step their velocities are keyed by, and per
+  // cell how many were added this step.
+  double ghost_fill = 0.0;
+  std::uint64_t seed = 0;
+  std::vector<std::uint32_t> ghosts;
+  std::uint64_t wall_reflections = 0;  // counted by the streaming, over the run
+
+  // cells_per_axis: the box; `box_walls` end the axes they are on, whose grid
+  // then spans the walls' whole motion and one layer beyond.
+  SrdCells(std::array<std::int32_t, D> cells_per_axis, std::size_t particles, std::vector<Wall> box_walls = {})
+      : cells(cells_per_axis), walls(std::move(box_walls)) {
     std::size_t total = 1;
+    for (int a = 0; a < D; ++a) length[a] = static_cast<double>(cells[a]);
     for (int a = 0; a < D; ++a) {
-      length[a] = static_cast<double>(cells[a]);
-      total *= static_cast<std::size_t>(cells[a]);
+      double low = 0.0, high = 0.0;
+      bool walled = false;
+      for (const Wall& wall : walls) {
+        if (wall.axis != a) continue;
+        const double reach = std::abs(wall.amplitude);
+        low = walled ? std::min(low, wall.rest - reach) : wall.rest - reach;
+        high = walled ? std::max(high, wall.rest + reach) : wall.rest + reach;
+        walled = true;
+      }
+      if (!walled) continue;
+      origin[a] = std::floor(low) - 1.0;
+      cells[a] = static_cast<std::int32_t>(std::ceil(high) + 1.0 - origin[a]);
+      bounded |= 1u << a;
     }
+    for (int a = 0; a < D; ++a) total *= static_cast<std::size_t>(cells[a]);
     cell.resize(particles);
     start.assign(total + 1, 0);
     count.assign(total, 0);
@@ -107,6 +137,7 @@ struct SrdCells {
     theta.assign(total, 0.0);
     sums.resize(total);
     transfer.assign(total, 0.0);
+    if (!walls.empty()) ghosts.assign(total, 0);
   }
   std::size_t cell_count() const { return mass.size(); }
   std::uint32_t particles_in(std::size_t c) const { return count[c]; }

@@ -70,14 +70,23 @@ GRANFLOW_HD inline int shear_image(const double* x, const double* shift, const d
 
 // Linear index of the cell holding x + shift. A shifted position beyond a
 // shear plane belongs to the moving image: its x is taken back by the offset.
+// Axes whose bit is set in `bounded` end at walls: their cells start at
+// origin[a] and do not wrap (the grid reaches a layer beyond each wall).
 template <int D>
 GRANFLOW_HD inline std::uint32_t cell_of(const double* x, const double* shift, const double* length,
-                                         const std::int32_t* cells, Shear shear) {
+                                         const std::int32_t* cells, Shear shear, const double* origin = nullptr,
+                                         unsigned bounded = 0) {
   double s[D];
   for (int a = 0; a < D; ++a) s[a] = x[a] + shift[a];
   if (D >= 2 && shear.velocity != 0.0) s[0] -= shear_image<D>(x, shift, length) * shear.offset;
   std::uint32_t index = 0;
   for (int a = D - 1; a >= 0; --a) {
+    if (bounded & (1u << a)) {
+      std::int64_t c = floor_index(s[a] - origin[a]);
+      c = c < 0 ? 0 : (c >= cells[a] ? cells[a] - 1 : c);
+      index = index * static_cast<std::uint32_t>(cells[a]) + static_cast<std::uint32_t>(c);
+      continue;
+    }
     std::int64_t c = floor_index(s[a]);
     if (c < 0) c += cells[a];
     if (c >= cells[a]) c -= cells[a];

@@ -146,4 +146,32 @@ GRANFLOW_HD inline int stream_between_walls(double* x, double* v, const double* 
   return reflections;
 }
 
+// The ghost particles of a cell cut by a no-slip wall (Lamura et al. 2001):
+// `count` virtual particles of mass m with Maxwell-Boltzmann velocities at
+// the wall's temperature about its velocity, which the cell's mean and
+// temperature include but which are neither stored nor rotated. Only their
+// sums matter, so they are drawn as such: their mean velocity (normal with
+// variance kT / (m count) per component) and the scatter about it
+// (kT / m times a chi-square of D (count - 1) degrees of freedom).
+struct GhostSums {
+  double mean[3] = {0.0, 0.0, 0.0};
+  double scatter = 0.0;  // sum |v - mean|^2
+};
+
+template <int D, class Random>
+GRANFLOW_HD inline GhostSums ghost_sums(int count, const Wall& wall, double t, double mass, Random& random) {
+  GhostSums out;
+  if (count <= 0) return out;
+  const double spread = std::sqrt(wall.temperature / mass);
+  for (int a = 0; a < D; ++a) out.mean[a] = spread / std::sqrt(static_cast<double>(count)) * random.normal();
+  out.mean[wall.axis] += wall.velocity(t);
+  double squares = 0.0;
+  for (int k = 0; k < D * (count - 1); ++k) {
+    const double z = random.normal();
+    squares += z * z;
+  }
+  out.scatter = spread * spread * squares;
+  return out;
+}
+
 }  // namespace granflow::srd
