@@ -10,6 +10,7 @@
 #include "systems/edmd/collision_rule.hpp"
 #include "systems/sde/gaussian_noise.hpp"
 #include "systems/sde/sde_model.hpp"
+#include "cuda/srd_check_step.cuh"
 
 namespace granflow::cuda {
 
@@ -83,7 +84,41 @@ __global__ void collision_kernel(int count, double restitution, const double* ma
   dissipated[i] = result.dissipated_energy;
 }
 
+__global__ void srd_cell_kernel(SrdCheckInput in, int count, double* matrices) {
+  const int c = blockIdx.x * blockDim.x + threadIdx.x;
+  if (c >= count) return;
+  srd::check_cell_matrix(in, static_cast<std::uint64_t>(c), matrices + 9 * c);
+}
+
+__global__ void srd_particle_kernel(SrdCheckInput in, int count, const double* matrices, const double* means,
+                                    double* x, double* v, std::uint32_t* cell) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= count) return;
+  cell[i] = srd::check_particle_step(in, matrices, means, x + 3 * i, v + 3 * i);
+}
+
 }  // namespace
+
+void srd_cell_matrices_on_device(const SrdCheckInput& input, int cell_count, double* matrices) {
+  DeviceArray<double> out(nullptr, 9 * static_cast<std::size_t>(cell_count));
+  srd_cell_kernel<<<blocks_for(cell_count), threads>>>(input, cell_count, out.get());
+  check(cudaGetLastError(), "SRD cell kernel");
+  out.copy_to(matrices);
+}
+
+void srd_particles_on_device(const SrdCheckInput& input, int count, const double* matrices, const double* means,
+                             double* x, double* v, std::uint32_t* cell) {
+  int cell_count = input.cells[0] * input.cells[1] * (input.cells[2] + (input.walls ? 2 : 0));
+  const auto n = static_cast<std::size_t>(count), cells = static_cast<std::size_t>(cell_count);
+  DeviceArray<double> d_m(matrices, 9 * cells), d_mean(means, 3 * cells), d_x(x, 3 * n), d_v(v, 3 * n);
+  DeviceArray<std::uint32_t> d_cell(nullptr, n);
+  srd_particle_kernel<<<blocks_for(count), threads>>>(input, count, d_m.get(), d_mean.get(), d_x.get(), d_v.get(),
+                                                      d_cell.get());
+  check(cudaGetLastError(), "SRD particle kernel");
+  d_x.copy_to(x);
+  d_v.copy_to(v);
+  d_cell.copy_to(cell);
+}
 
 void philox_words_on_device(std::uint32_t stream, std::uint64_t seed, std::uint64_t step, int count,
                             std::uint32_t* words) {

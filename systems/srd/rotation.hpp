@@ -18,8 +18,6 @@
 
 #include "components/clock.hpp"
 #include "components/velocity.hpp"
-#include "engine/rng.hpp"
-#include "engine/stream_ids.hpp"
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
@@ -49,21 +47,6 @@ CellRotation<D> rotation_base(const RotationParameters& p) {
   r.cos_alpha = std::cos(alpha);
   r.sin_alpha = std::sin(alpha);
   r.rule = p.rule;
-  return r;
-}
-
-// The rotation of cell `c` at `step`: its random sign (2D) or axis (3D), and
-// the dissipation axis, before the granular factor is set.
-template <int D>
-CellRotation<D> cell_rotation(const CellRotation<D>& base, std::uint64_t seed, std::uint64_t step, std::uint64_t c) {
-  CellRotation<D> r = base;
-  Philox random(stream::srd_rotation, seed, step, c);
-  if constexpr (D == 2) {
-    if (random.uniform() >= 0.5) r.sin_alpha = -r.sin_alpha;
-  } else {
-    random_unit_vector<3>(random, r.axis);
-  }
-  if (r.rule == Dissipation::random_axis) random_unit_vector<D>(random, r.direction);
   return r;
 }
 

@@ -13,6 +13,8 @@
 #include <cstdint>
 
 #include "engine/host_device.hpp"
+#include "engine/rng.hpp"
+#include "engine/stream_ids.hpp"
 
 namespace granflow::srd {
 
@@ -215,6 +217,22 @@ GRANFLOW_HD inline void random_unit_vector(Uniform& random, double* out) {
     out[1] = r * x2;
     out[2] = 1.0 - 2.0 * s;
   }
+}
+
+// The rotation of cell `c` at `step`: its random sign (2D) or axis (3D), and
+// the dissipation axis, before the granular factor is set.
+template <int D>
+GRANFLOW_HD inline CellRotation<D> cell_rotation(const CellRotation<D>& base, std::uint64_t seed, std::uint64_t step,
+                                                 std::uint64_t c) {
+  CellRotation<D> r = base;
+  Philox random(stream::srd_rotation, seed, step, c);
+  if constexpr (D == 2) {
+    if (random.uniform() >= 0.5) r.sin_alpha = -r.sin_alpha;
+  } else {
+    random_unit_vector<3>(random, r.axis);
+  }
+  if (r.rule == Dissipation::random_axis) random_unit_vector<D>(random, r.direction);
+  return r;
 }
 
 }  // namespace granflow::srd

@@ -2,7 +2,8 @@
 // the host: Philox words bit for bit (integer arithmetic), one pair
 // collision to 1e-14 relative (double arithmetic; the device may fuse
 // multiply-adds), one SDE step to 1e-6 of its noise term (the device's float
-// log and cos against the host's, a few ulp). Skips, saying why, where no
+// log and cos against the host's, a few ulp), one SRD step of streaming,
+// walls, cell index and collision to 1e-12. Skips, saying why, where no
 // CUDA device is usable.
 
 #include <gtest/gtest.h>
@@ -13,6 +14,7 @@
 
 #include "cuda/device_query.cuh"
 #include "cuda/host_device_check.cuh"
+#include "cuda/srd_check_step.cuh"
 #include "engine/rng.hpp"
 #include "engine/stream_ids.hpp"
 #include "systems/edmd/collision_rule.hpp"
@@ -99,6 +101,42 @@ TEST(HostDevice, PairCollisionAgrees) {
       ASSERT_NEAR(vd[6 * i + 3 + a], vj[a], 1e-14 * scale) << "pair " << i;
     }
     ASSERT_NEAR(lost[i], host.dissipated_energy, 1e-14 * (std::abs(host.dissipated_energy) + 1e-300)) << "pair " << i;
+  }
+}
+
+// One SRD step of 4096 particles in an 8^3 box, periodic and between walls
+// under gravity: the cell matrices (random axis, rotation, granular factor)
+// to 1e-14, the cells identical, positions and velocities to 1e-12 (the
+// device may fuse multiply-adds, a few ulp per operation).
+TEST(HostDevice, SrdStepAgrees) {
+  if (const std::string why = no_device(); !why.empty()) GTEST_SKIP() << why;
+  for (int walls : {0, 1}) {
+    SrdCheckInput in{{8, 8, 8}, {0.21, -0.37, 0.44}, 0.3, std::cos(2.2), std::sin(2.2), 0.97, -0.5, 123, 45, walls};
+    const int cell_count = 8 * 8 * (8 + (walls ? 2 : 0)), count = 4096;
+    std::vector<double> device_matrices(9 * cell_count), host_matrices(9 * cell_count), means(3 * cell_count);
+    srd_cell_matrices_on_device(in, cell_count, device_matrices.data());
+    for (int c = 0; c < cell_count; ++c) {
+      srd::check_cell_matrix(in, static_cast<std::uint64_t>(c), host_matrices.data() + 9 * c);
+      for (int a = 0; a < 3; ++a) means[3 * c + a] = 0.1 * std::sin(c + a);
+    }
+    for (int k = 0; k < 9 * cell_count; ++k) ASSERT_NEAR(device_matrices[k], host_matrices[k], 1e-14) << "entry " << k;
+    std::vector<double> x(3 * count), v(3 * count);
+    for (int i = 0; i < count; ++i) {
+      Philox random(stream::srd_initial, 9, 0, static_cast<std::uint64_t>(i));
+      for (int a = 0; a < 3; ++a) x[3 * i + a] = 8.0 * random.uniform();
+      for (int a = 0; a < 3; ++a) v[3 * i + a] = random.normal();
+    }
+    std::vector<double> xd = x, vd = v;
+    std::vector<std::uint32_t> device_cell(count);
+    srd_particles_on_device(in, count, host_matrices.data(), means.data(), xd.data(), vd.data(), device_cell.data());
+    for (int i = 0; i < count; ++i) {
+      const std::uint32_t c = srd::check_particle_step(in, host_matrices.data(), means.data(), &x[3 * i], &v[3 * i]);
+      ASSERT_EQ(device_cell[i], c) << "particle " << i;
+      for (int a = 0; a < 3; ++a) {
+        ASSERT_NEAR(xd[3 * i + a], x[3 * i + a], 1e-12) << "particle " << i;
+        ASSERT_NEAR(vd[3 * i + a], v[3 * i + a], 1e-12) << "particle " << i;
+      }
+    }
   }
 }
 
