@@ -222,12 +222,12 @@ void H5mdFile::write_parameters(const Config& config) {
       write_numeric_attribute<double>(target, name, H5T_NATIVE_DOUBLE, {*d});
     else if (const auto* b = std::get_if<bool>(&value))
       write_numeric_attribute<int>(target, name, H5T_NATIVE_INT, {*b ? 1 : 0});
-    else if (const auto* list = std::get_if<std::vector<double>>(&value))
+    else if (const auto* list = std::get_if<std::vector<double>>(&value); list && !list->empty())
       write_numeric_attribute<double>(target, name, H5T_NATIVE_DOUBLE, *list);
     else if (const auto* text = std::get_if<std::string>(&value))
       write_string_attribute(target, name, *text);
     else
-      write_string_attribute(target, name, to_string(value));  // a list of tables, as TOML
+      write_string_attribute(target, name, to_string(value));  // a list of tables, or an empty list, as TOML
   }
 }
 

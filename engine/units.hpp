@@ -13,6 +13,7 @@ inline constexpr const char* area = "L2";  // lengths squared: MSD
 inline constexpr const char* mass = "M";
 inline constexpr const char* time = "T";
 inline constexpr const char* velocity = "L T-1";
+inline constexpr const char* acceleration = "L T-2";
 inline constexpr const char* energy = "M L2 T-2";
 inline constexpr const char* diffusivity = "L2 T-1";
 inline constexpr const char* rate = "T-1";

@@ -431,6 +431,34 @@ def plot_gsrd_cooling(files, output):
     save(fig, output)
 
 
+def plot_srd_poiseuille(files, output):
+    f = files[0]
+    obs = f["/observables"]
+    g = float(f["/parameters/derived"].attrs["acceleration"])
+    nu_theory = float(obs.attrs["viscosity_theory"])
+    nu = float(obs.attrs["viscosity_measured_mean"])
+    velocity = obs["velocity_profile/value"][()].mean(axis=0)
+    density = obs["density_profile/value"][()].mean(axis=0)
+    temperature = obs["temperature_profile/value"][()].mean(axis=0)
+    layers = len(velocity)
+    y = np.arange(layers) + 0.5
+    fine = np.linspace(0, layers, 200)
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.4))
+    left.plot(y, velocity, "o", ms=4, label="measured (mean of the blocks)")
+    left.plot(fine, g / (2 * nu_theory) * fine * (layers - fine), "k--",
+              label=f"no slip, $\\nu$ = {nu_theory:.4g} (Kikuchi et al.)")
+    left.plot(fine, g / (2 * nu) * fine * (layers - fine), "C1-", lw=0.8, label=f"curvature fit: $\\nu$ = {nu:.4g}")
+    left.set_xlabel("y [cells]")
+    left.set_ylabel("v_x [L T-1]")
+    left.legend(fontsize=8)
+    right.plot(y, density / density.mean(), "o-", ms=3, label="density / mean")
+    right.plot(y, temperature, "s-", ms=3, label="kT of the layer")
+    right.set_xlabel("y [cells]")
+    right.legend(fontsize=8)
+    fig.suptitle("SRD Poiseuille flow between no-slip walls")
+    save(fig, output)
+
+
 PLOTTERS = {"haff_cooling": lambda files, output: plot_haff(files[0], output),
             "speed_distribution": plot_speed_distribution,
             "mixture": plot_mixture,
@@ -440,6 +468,7 @@ PLOTTERS = {"haff_cooling": lambda files, output: plot_haff(files[0], output),
             "udsbm_msd": plot_msd,
             "brownian_edmd": plot_msd,
             "srd_viscosity": plot_srd_viscosity,
+            "srd_poiseuille": plot_srd_poiseuille,
             "gsrd_cooling": plot_gsrd_cooling}
 
 

@@ -9,6 +9,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numbers>
+#include <algorithm>
 #include <string>
 
 #include "components/clock.hpp"
@@ -27,6 +29,7 @@
 #include "systems/srd/rotation.hpp"
 #include "systems/srd/srd_cells.hpp"
 #include "systems/srd/streaming.hpp"
+#include "systems/srd/srd_walls.hpp"
 #include "systems/srd/thermostat.hpp"
 
 namespace granflow::srd {
@@ -78,6 +81,73 @@ inline void declare_srd_keys(ConfigSchema& s, const SrdDefaults& d) {
       .unit("srd.restitution", unit::none);
 }
 
+// Walls and a body force, for the scenarios that have them: `walls` as a
+// list of tables, each ending one axis on one side, and force.acceleration.
+inline void declare_srd_wall_keys(ConfigSchema& s) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  ConfigSchema wall;
+  wall.choice("axis", "y", {"x", "y", "z"}, "the axis the wall is perpendicular to")
+      .choice("side", "lower", {"lower", "upper"}, "lower: at 0, the fluid above it; upper: at the box length, below it")
+      .choice("kind", "no_slip", {"no_slip", "slip"},
+              "no_slip: bounce-back, cut cells filled with ghost particles; slip: specular reflection")
+      .real("temperature", 0.0, 0.0, inf, "temperature of its ghost particles (0: srd.temperature)")
+      .real("amplitude", 0.0, 0.0, inf, "amplitude A of its motion A sin(2 pi f t) along its normal")
+      .real("frequency", 0.0, 0.0, inf, "frequency f of that motion");
+  wall.unit("temperature", unit::energy).unit("amplitude", unit::length).unit("frequency", unit::rate);
+  s.table_array("walls", std::move(wall), 0, 6, "walls replacing the periodic boundary of an axis, both sides of it")
+      .real_array("force.acceleration", {}, -1e300, 1e300, 0, 3,
+                  "constant body force per mass (gravity), one entry per dimension; empty: none");
+  s.unit("force.acceleration", unit::acceleration);
+}
+
+template <int D>
+std::vector<Wall> walls_from(const Config& c, const std::array<std::int32_t, D>& cells) {
+  std::vector<Wall> walls;
+  const auto tables = c.tables("walls");
+  for (std::size_t k = 0; k < tables.size(); ++k) {
+    const Config& t = tables[k];
+    Wall w;
+    w.axis = t.text("axis") == "x" ? 0 : t.text("axis") == "y" ? 1 : 2;
+    if (w.axis >= D)
+      throw ConfigError(fmt::format("walls[{}].axis = {}: the system has {} dimensions", k, t.text("axis"), D));
+    w.side = t.text("side") == "lower" ? -1 : +1;
+    w.kind = t.text("kind") == "slip" ? WallKind::slip : WallKind::no_slip;
+    w.rest = w.side < 0 ? 0.0 : static_cast<double>(cells[w.axis]);
+    w.temperature = t.real("temperature") > 0.0 ? t.real("temperature") : c.real("srd.temperature");
+    w.amplitude = t.real("amplitude");
+    w.omega = 2.0 * std::numbers::pi * t.real("frequency");
+    if (w.amplitude > 0.25 * cells[w.axis])
+      throw ConfigError(fmt::format("walls[{}].amplitude = {} exceeds a quarter of the box along {} ({} cells)", k,
+                                    w.amplitude, t.text("axis"), cells[w.axis]));
+    for (const Wall& other : walls)
+      if (other.axis == w.axis && other.side == w.side)
+        throw ConfigError(fmt::format("walls[{}]: axis {} already has a {} wall", k, t.text("axis"), t.text("side")));
+    walls.push_back(w);
+  }
+  for (const Wall& w : walls) {
+    const auto partner = std::count_if(walls.begin(), walls.end(), [&](const Wall& o) { return o.axis == w.axis; });
+    if (partner != 2)
+      throw ConfigError(fmt::format("walls: axis {} has a wall on one side only; give it a lower and an upper wall",
+                                    "xyz"[w.axis]));
+  }
+  if (!walls.empty() && c.real("shear.rate") > 0.0)
+    throw ConfigError("walls and shear.rate > 0 (Lees-Edwards planes) cannot be combined");
+  return walls;
+}
+
+template <int D>
+std::array<double, D> acceleration_from(const Config& c) {
+  const auto& g = c.reals("force.acceleration");
+  std::array<double, D> out{};
+  if (g.empty()) return out;
+  if (g.size() != D)
+    throw ConfigError(fmt::format("force.acceleration has {} entries; system.dimension = {} needs {}", g.size(), D, D));
+  if (c.real("shear.rate") > 0.0)
+    throw ConfigError("force.acceleration and shear.rate > 0 (Lees-Edwards planes) cannot be combined");
+  for (int a = 0; a < D; ++a) out[a] = g[a];
+  return out;
+}
+
 inline Dissipation dissipation_from(const Config& c) {
   const std::string& rule = c.text("srd.dissipation");
   return rule == "random_axis" ? Dissipation::random_axis : rule == "whole" ? Dissipation::whole : Dissipation::rotated_plane;
@@ -104,7 +174,7 @@ inline RotationParameters rotation_from(const Config& c) {
 
 // The initial fluid, the cells resource, the box and the step chain.
 template <int D>
-void add_srd_fluid(Run& run) {
+void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, std::array<double, D> acceleration = {}) {
   const Config& c = run.config();
   const auto cells = cells_from<D>(c);
   double cell_count = 1.0;
@@ -140,7 +210,10 @@ void add_srd_fluid(Run& run) {
     SrdCellBinning<D>::sort(world, unshifted);
   });
   // The cells of the current state, so that observers at the start see them.
-  auto& state = run.world().template emplace_resource<SrdCells<D>>(cells, n);
+  const bool walled = !walls.empty();
+  auto& state = run.world().template emplace_resource<SrdCells<D>>(cells, n, std::move(walls));
+  state.ghost_fill = static_cast<double>(c.integer("srd.particles_per_cell"));
+  state.seed = run.seed();
   SrdStreaming<D>::set_shear(state, rate, run.world().template resource<Clock>().time);
   state.record_moments = rate > 0.0;
   SrdCellBinning<D>::assign(run.world(), state);
@@ -148,7 +221,7 @@ void add_srd_fluid(Run& run) {
   std::vector<double> edges(cells.begin(), cells.end());
   run.box(edges, std::vector<std::string>(D, "periodic"));
   const double dt = c.real("srd.time_step");
-  run.step<SrdStreaming<D>>(dt, rate);
+  run.step<SrdStreaming<D>>(dt, rate, acceleration);
   run.step<SrdGridShift<D>>(run.seed(), c.boolean("srd.grid_shift"));
   const double hottest = std::max(temperature, c.real("thermostat.temperature"));
   const auto interval = c.integer("srd.reorder_interval") > 0
@@ -158,7 +231,8 @@ void add_srd_fluid(Run& run) {
   run.step<SrdCellBinning<D>>(interval);
   run.step<SrdCellReduction<D>>();
   run.step<SrdRotation<D>>(rotation_from(c), run.seed());
-  if (c.real("thermostat.temperature") > 0.0) run.step<SrdThermostat<D>>(c.real("thermostat.temperature"));
+  // Walls fix the frame: the thermostat then keeps the mean flow.
+  if (c.real("thermostat.temperature") > 0.0) run.step<SrdThermostat<D>>(c.real("thermostat.temperature"), !walled);
   run.stop_at_step(c.integer("run.steps"));
   run.finished_reason("reached run.steps");
   run.rate("particle-steps/s", [&run, particles] { return particles * static_cast<double>(run.clock().step); });

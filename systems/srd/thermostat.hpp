@@ -26,7 +26,10 @@ inline const SystemDescription srd_thermostat_description{
 template <int D>
 class SrdThermostat : public System {
  public:
-  explicit SrdThermostat(double temperature) : temperature_(temperature) {}
+  // remove_drift: take the global mean velocity out first (a periodic box;
+  // between walls the flow is the physics).
+  explicit SrdThermostat(double temperature, bool remove_drift = true)
+      : temperature_(temperature), remove_drift_(remove_drift) {}
 
   std::string name() const override { return "srd_thermostat"; }
   Access access() const override { return Access{}.writes<Velocity<D>, SrdCells<D>>(); }
@@ -48,7 +51,8 @@ class SrdThermostat : public System {
     // Global drift (mass-weighted mean velocity), summed in a fixed order.
     Vec<D> drift;
     const double total = deterministic_sum(n, m);
-    for (int a = 0; a < D; ++a) drift[a] = deterministic_sum(n, [&](std::size_t i) { return m(i) * velocity[i][a]; }) / total;
+    for (int a = 0; a < D; ++a)
+      drift[a] = remove_drift_ ? deterministic_sum(n, [&](std::size_t i) { return m(i) * velocity[i][a]; }) / total : 0.0;
     // Thermal energy about the cell means (which the rotation left unchanged).
     const double thermal = deterministic_sum(n, [&](std::size_t i) { return m(i) * thermal_velocity(i).squaredNorm(); });
     const double occupied =
@@ -69,6 +73,7 @@ class SrdThermostat : public System {
 
  private:
   double temperature_;
+  bool remove_drift_;
 };
 
 }  // namespace granflow::srd

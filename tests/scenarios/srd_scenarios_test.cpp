@@ -107,6 +107,29 @@ INSTANTIATE_TEST_SUITE_P(AllAngles, SrdViscosity,
                          });
 #endif
 
+// The profile's curvature gives the viscosity of Kikuchi et al. within 5 %
+// (plus three block standard errors), and the fitted wall velocities are zero
+// within three standard errors (bounce-back with ghost particles: no slip).
+// 2D: the scenario's 40 x 20 channel; 3D: 8 x 20 x 8.
+TEST(SrdPoiseuille, CurvatureGivesTheViscosityAndTheWallsDoNotSlip) {
+  for (int dimension : {2, 3}) {
+    Config config(scenario_schema("srd_poiseuille"));
+    config.set("system.dimension", std::int64_t{dimension});
+    if (dimension == 3) config.set("system.cells", std::vector<double>{8, 20, 8});
+    const auto file = run("srd_poiseuille", config, "poiseuille" + std::to_string(dimension));
+    const auto attribute = [&](const char* name) { return file.double_attribute("/observables", name); };
+    const double nu = attribute("viscosity_measured_mean"), error = attribute("viscosity_measured_stderr");
+    const double theory = attribute("viscosity_theory");
+    std::printf("%dD: nu = %.5f +- %.5f, theory %.5f (%+.2f %%); slip %.4f +- %.4f, %.4f +- %.4f\n", dimension, nu, error,
+                theory, 100 * (nu / theory - 1), attribute("slip_lower"), attribute("slip_lower_stderr"),
+                attribute("slip_upper"), attribute("slip_upper_stderr"));
+    ASSERT_GT(error, 0.0);
+    EXPECT_NEAR(nu, theory, 0.05 * theory + 3 * error);
+    EXPECT_LT(std::abs(attribute("slip_lower")), 3 * attribute("slip_lower_stderr"));
+    EXPECT_LT(std::abs(attribute("slip_upper")), 3 * attribute("slip_upper_stderr"));
+  }
+}
+
 // gsrd_cooling's defaults in a 16^3 box (40 960 particles).
 H5mdReader small_cooling(std::int64_t steps, const std::string& name) {
   Config config(scenario_schema("gsrd_cooling"));

@@ -1,0 +1,169 @@
+#pragma once
+// Profiles against the coordinate normal to the walls, in layers one cell
+// thick on the unshifted grid: velocity_profile (the mean velocity along the
+// flow axis: x, or y where the walls are perpendicular to x),
+// density_profile (particles per cell volume) and temperature_profile (the
+// layer's kinetic temperature about its own mean velocity). A sampler adds
+// every step after the warm-up; the observer writes the averages over the
+// steps since its last output, and keeps the average since the warm-up for
+// the scenario's fit.
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+#include "components/clock.hpp"
+#include "components/mass.hpp"
+#include "components/position.hpp"
+#include "components/velocity.hpp"
+#include "engine/observable_store.hpp"
+#include "engine/state_map.hpp"
+#include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
+#include "engine/units.hpp"
+#include "engine/world.hpp"
+#include "systems/srd/srd_cells.hpp"
+
+namespace granflow::srd {
+
+inline const SystemDescription sample_srd_profiles_description{
+    "sample_srd_profiles", "velocity, density and temperature in layers across the walls, every step after the warm-up"};
+inline const SystemDescription observe_srd_profiles_description{
+    "observe_srd_profiles", "velocity_profile, density_profile, temperature_profile: averages since the last output"};
+
+// Per layer: particles, sum of the flow velocity, sum of |v|^2 and of each
+// velocity component (for the layer's mean), over the samples of a block and
+// since the warm-up.
+class ProfileSums : public Stateful {
+ public:
+  ProfileSums(int layers, int dimension) : layers_(layers), dimension_(dimension) {
+    block_.assign(static_cast<std::size_t>(layers) * width(), 0.0);
+    total_ = block_;
+  }
+  std::size_t width() const { return 3 + static_cast<std::size_t>(dimension_); }
+  int layers() const { return layers_; }
+
+  // One step's sums per layer, `width()` numbers each.
+  void add(const std::vector<double>& step) {
+    for (std::size_t k = 0; k < step.size(); ++k) {
+      block_[k] += step[k];
+      total_[k] += step[k];
+    }
+    ++block_samples_;
+    ++total_samples_;
+  }
+
+  struct Profiles {
+    std::vector<double> velocity, density, temperature;
+  };
+  // The block's averages (and starts a new block), or those since the warm-up.
+  Profiles take_block(double layer_volume, double mass) {
+    Profiles out = averages(block_, block_samples_, layer_volume, mass);
+    if (block_samples_ > 0) block_velocities_.insert(block_velocities_.end(), out.velocity.begin(), out.velocity.end());
+    std::fill(block_.begin(), block_.end(), 0.0);
+    block_samples_ = 0;
+    return out;
+  }
+  Profiles overall(double layer_volume, double mass) const { return averages(total_, total_samples_, layer_volume, mass); }
+  std::int64_t samples() const { return total_samples_; }
+  // The velocity profiles of the blocks taken so far, one after another.
+  const std::vector<double>& block_velocities() const { return block_velocities_; }
+
+  StateMap save_state() const override {
+    return {{"block", block_}, {"total", total_}, {"block_velocities", block_velocities_},
+            {"samples", {static_cast<double>(block_samples_), static_cast<double>(total_samples_)}}};
+  }
+  void restore_state(const StateMap& state) override {
+    if (state.at("block").size() != block_.size() || state.at("total").size() != total_.size() ||
+        state.at("samples").size() != 2)
+      throw std::invalid_argument("checkpoint profile sums have the wrong sizes");
+    block_velocities_ = state.at("block_velocities");
+    block_ = state.at("block");
+    total_ = state.at("total");
+    block_samples_ = static_cast<std::int64_t>(state.at("samples")[0]);
+    total_samples_ = static_cast<std::int64_t>(state.at("samples")[1]);
+  }
+
+ private:
+  Profiles averages(const std::vector<double>& sums, std::int64_t samples, double layer_volume, double mass) const {
+    Profiles out;
+    const std::size_t w = width();
+    for (int k = 0; k < layers_; ++k) {
+      const double* s = &sums[static_cast<std::size_t>(k) * w];
+      const double count = s[0];
+      out.density.push_back(samples > 0 ? count / (static_cast<double>(samples) * layer_volume) : 0.0);
+      out.velocity.push_back(count > 0 ? s[1] / count : 0.0);
+      double mean2 = 0.0;
+      for (int a = 0; a < dimension_; ++a) mean2 += (s[3 + a] / std::max(count, 1.0)) * (s[3 + a] / std::max(count, 1.0));
+      out.temperature.push_back(count > 0 ? mass * (s[2] / count - mean2) / dimension_ : 0.0);
+    }
+    return out;
+  }
+
+  int layers_, dimension_;
+  std::vector<double> block_, total_, block_velocities_;
+  std::int64_t block_samples_ = 0, total_samples_ = 0;
+};
+
+template <int D>
+class SrdProfileSampler : public System {
+ public:
+  // axis: the walls' normal; flow: the velocity component profiled.
+  SrdProfileSampler(int axis, int flow, std::shared_ptr<ProfileSums> sums) : axis_(axis), flow_(flow), sums_(std::move(sums)) {}
+
+  std::string name() const override { return "sample_srd_profiles"; }
+  Access access() const override { return Access{}.reads<Position<D>, Velocity<D>>(); }
+
+  void run(World& world) override {
+    const auto& x = world.component<Position<D>>();
+    const auto& v = world.component<Velocity<D>>();
+    const std::size_t w = sums_->width();
+    const int layers = sums_->layers();
+    std::vector<double> step(static_cast<std::size_t>(layers) * w, 0.0);
+    // Serial: a fixed order, so the sums do not depend on the thread count.
+    for (std::size_t i = 0; i < world.size(); ++i) {
+      const int k = std::clamp(static_cast<int>(std::floor(x[i][axis_])), 0, layers - 1);
+      double* s = &step[static_cast<std::size_t>(k) * w];
+      s[0] += 1.0;
+      s[1] += v[i][flow_];
+      s[2] += v[i].squaredNorm();
+      for (int a = 0; a < D; ++a) s[3 + a] += v[i][a];
+    }
+    sums_->add(step);
+  }
+
+ private:
+  int axis_, flow_;
+  std::shared_ptr<ProfileSums> sums_;
+};
+
+template <int D>
+class SrdProfileObserver : public System {
+ public:
+  SrdProfileObserver(double layer_volume, double mass, std::shared_ptr<ProfileSums> sums)
+      : layer_volume_(layer_volume), mass_(mass), sums_(std::move(sums)) {}
+
+  std::string name() const override { return "observe_srd_profiles"; }
+  Access access() const override {
+    return Access{}
+        .writes_observable("velocity_profile", unit::velocity)
+        .writes_observable("density_profile", "L-" + std::to_string(D))
+        .writes_observable("temperature_profile", unit::energy);
+  }
+
+  void run(World& world) override {
+    auto profiles = sums_->take_block(layer_volume_, mass_);
+    auto& store = world.resource<ObservableStore>();
+    store.set("velocity_profile", std::move(profiles.velocity));
+    store.set("density_profile", std::move(profiles.density));
+    store.set("temperature_profile", std::move(profiles.temperature));
+  }
+
+ private:
+  double layer_volume_, mass_;
+  std::shared_ptr<ProfileSums> sums_;
+};
+
+}  // namespace granflow::srd
