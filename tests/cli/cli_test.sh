@@ -41,6 +41,13 @@ srd="$(dirname "$scenario")/srd_viscosity.toml"
 expect_error "shear.rate must be > 0" run "$srd" --set shear.rate=0 -o "$work/x.h5"
 expect_error "leaves no step to sample" run "$srd" --set run.steps=100 -o "$work/x.h5"
 expect_error "system.cells has 3 entries; system.dimension = 2 needs 2" run "$srd" --set 'system.cells=[8,8,8]' -o "$work/x.h5"
+channel="$(dirname "$scenario")/srd_poiseuille.toml"
+expect_error "axis y has a wall on one side only" run "$channel" --set 'walls=[{axis = "y", side = "lower"}]' -o "$work/x.h5"
+expect_error "walls[0].axis = z: the system has 2 dimensions" run "$channel" \
+  --set 'walls=[{axis = "z"}, {axis = "z", side = "upper"}]' -o "$work/x.h5"
+expect_error "force.acceleration has 3 entries; system.dimension = 2 needs 2" run "$channel" \
+  --set 'force.acceleration=[0.01, 0, 0]' -o "$work/x.h5"
+expect_error "drives the flow along x" run "$channel" --set 'force.acceleration=[0, 0.01]' -o "$work/x.h5"
 printf 'scenario = 3\n' > "$work/number.toml"
 expect_error "'scenario' must be a scenario name in quotes" run "$work/number.toml"
 printf 'scenario = "haff_cooling"\n[system\ncount = 3\n' > "$work/broken.toml"
