@@ -140,6 +140,23 @@ struct SrdCells {
     if (!walls.empty()) ghosts.assign(total, 0);
   }
   std::size_t cell_count() const { return mass.size(); }
+  // Whether cell c of this step's shifted grid lies wholly between the walls
+  // at `time` (true along axes without walls).
+  bool inside_walls(std::size_t c, double time) const {
+    std::size_t rest = c;
+    double low[D], high[D];
+    for (int a = 0; a < D; ++a) {
+      const auto k = static_cast<double>(rest % static_cast<std::size_t>(cells[a]));
+      rest /= static_cast<std::size_t>(cells[a]);
+      low[a] = origin[a] + k - shift[a];
+      high[a] = low[a] + 1.0;
+    }
+    for (const Wall& wall : walls) {
+      const double at = wall.position(time);
+      if (wall.side < 0 ? low[wall.axis] < at : high[wall.axis] > at) return false;
+    }
+    return true;
+  }
   std::uint32_t particles_in(std::size_t c) const { return count[c]; }
   // The x velocity particle i's cell sees it move with beyond a shear plane.
   double image_velocity(std::size_t i) const { return image.empty() ? 0.0 : -image[i] * shear.velocity; }

@@ -13,6 +13,7 @@
 #include <cmath>
 
 #include "components/mass.hpp"
+#include "components/clock.hpp"
 #include "components/velocity.hpp"
 #include "engine/deterministic_sum.hpp"
 #include "engine/observable_store.hpp"
@@ -33,7 +34,7 @@ class SrdStateObserver : public System {
   std::string name() const override { return "observe_srd_state"; }
   Access access() const override {
     return Access{}
-        .reads<Velocity<D>, SrdCells<D>>()
+        .reads<Clock, Velocity<D>, SrdCells<D>>()
         .writes_observable("temperature", unit::energy)
         .writes_observable("granular_temperature", unit::energy)
         .writes_observable("convective_kinetic_energy", unit::energy)
@@ -64,11 +65,19 @@ class SrdStateObserver : public System {
     const double convective =
         deterministic_sum(c_count, [&](std::size_t c) { return cells.mass[c] * cells.velocity[c].squaredNorm(); }) /
         static_cast<double>(n);
-    const double mean_count = static_cast<double>(n) / static_cast<double>(c_count);
+    // Between walls, only the cells wholly inside them (this step's grid):
+    // the others are cut, or beyond the walls.
+    const double time = world.resource<Clock>().time;
+    const auto counted = [&](std::size_t c) { return cells.walls.empty() || cells.inside_walls(c, time); };
+    const double counted_cells = deterministic_sum(c_count, [&](std::size_t c) { return counted(c) ? 1.0 : 0.0; });
+    const double mean_count =
+        deterministic_sum(c_count, [&](std::size_t c) { return counted(c) ? cells.particles_in(c) : 0.0; }) /
+        std::max(counted_cells, 1.0);
     const double count_variance = deterministic_sum(c_count, [&](std::size_t c) {
+                                    if (!counted(c)) return 0.0;
                                     const double d = cells.particles_in(c) - mean_count;
                                     return d * d;
-                                  }) / static_cast<double>(c_count);
+                                  }) / std::max(counted_cells, 1.0);
     Vec<D> mean = Vec<D>::Zero();
     double total_mass = 0.0;
     for (int a = 0; a < D; ++a) mean[a] = deterministic_sum(n, [&](std::size_t i) { return m(i) * velocity[i][a]; });

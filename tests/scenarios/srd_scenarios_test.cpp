@@ -125,6 +125,10 @@ TEST(SrdPoiseuille, CurvatureGivesTheViscosityAndTheWallsDoNotSlip) {
                 attribute("slip_upper"), attribute("slip_upper_stderr"));
     ASSERT_GT(error, 0.0);
     EXPECT_NEAR(nu, theory, 0.05 * theory + 3 * error);
+    // Counts per cell inside the walls are Poisson, sqrt(n0) wide; the cut
+    // cells and the layers beyond the walls would widen it by a third.
+    const auto spread = file.doubles("/observables/density_std/value").values;
+    EXPECT_NEAR(spread.back(), std::sqrt(10.0), 0.1 * std::sqrt(10.0));
     EXPECT_LT(std::abs(attribute("slip_lower")), 3 * attribute("slip_lower_stderr"));
     EXPECT_LT(std::abs(attribute("slip_upper")), 3 * attribute("slip_upper_stderr"));
   }
