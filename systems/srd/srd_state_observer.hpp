@@ -21,6 +21,7 @@
 #include "engine/system_catalogue.hpp"
 #include "engine/units.hpp"
 #include "engine/world.hpp"
+#include "systems/srd/global_motion.hpp"
 #include "systems/srd/srd_cells.hpp"
 
 namespace granflow::srd {
@@ -78,11 +79,8 @@ class SrdStateObserver : public System {
                                     const double d = cells.particles_in(c) - mean_count;
                                     return d * d;
                                   }) / std::max(counted_cells, 1.0);
-    Vec<D> mean = Vec<D>::Zero();
-    double total_mass = 0.0;
-    for (int a = 0; a < D; ++a) mean[a] = deterministic_sum(n, [&](std::size_t i) { return m(i) * velocity[i][a]; });
-    total_mass = deterministic_sum(n, [&](std::size_t i) { return m(i); });
-    mean /= total_mass;
+    const GlobalMotion<D> global = global_motion<D>(world, m0);
+    const Vec<D>& mean = global.mean;
     const double c2 = deterministic_sum(n, [&](std::size_t i) { return (velocity[i] - mean).squaredNorm(); }) / n;
     const double c4 = deterministic_sum(n, [&](std::size_t i) {
                         const double s = (velocity[i] - mean).squaredNorm();
@@ -92,8 +90,7 @@ class SrdStateObserver : public System {
                         const double s = (velocity[i] - mean).squaredNorm();
                         return s * s * s;
                       }) / n;
-    const double granular =
-        deterministic_sum(n, [&](std::size_t i) { return m(i) * (velocity[i] - mean).squaredNorm(); }) / (D * static_cast<double>(n));
+    const double granular = global.granular_temperature;
     const double dof = D * (static_cast<double>(n) - occupied);
     const double temperature = dof > 0 ? thermal / dof : 0.0;
     const double d = D;

@@ -16,6 +16,7 @@
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
+#include "systems/srd/global_motion.hpp"
 #include "systems/srd/srd_cells.hpp"
 
 namespace granflow::srd {
@@ -49,10 +50,7 @@ class SrdThermostat : public System {
       return u;
     };
     // Global drift (mass-weighted mean velocity), summed in a fixed order.
-    Vec<D> drift;
-    const double total = deterministic_sum(n, m);
-    for (int a = 0; a < D; ++a)
-      drift[a] = remove_drift_ ? deterministic_sum(n, [&](std::size_t i) { return m(i) * velocity[i][a]; }) / total : 0.0;
+    const Vec<D> drift = remove_drift_ ? global_motion<D>(world, m0, false).mean : Vec<D>::Zero();
     // Thermal energy about the cell means (which the rotation left unchanged).
     const double thermal = deterministic_sum(n, [&](std::size_t i) { return m(i) * thermal_velocity(i).squaredNorm(); });
     const double occupied =

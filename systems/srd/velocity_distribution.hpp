@@ -10,14 +10,13 @@
 #include <cmath>
 #include <vector>
 
-#include "components/mass.hpp"
 #include "components/velocity.hpp"
-#include "engine/deterministic_sum.hpp"
 #include "engine/observable_store.hpp"
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/units.hpp"
 #include "engine/world.hpp"
+#include "systems/srd/global_motion.hpp"
 #include "systems/srd/srd_cells.hpp"
 
 namespace granflow::srd {
@@ -39,18 +38,12 @@ class VelocityDistributionObserver : public System {
 
   void run(World& world) override {
     const auto& velocity = world.component<Velocity<D>>();
-    const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
-    const double m0 = world.resource<SrdCells<D>>().particle_mass;
     const std::size_t n = world.size();
-    const auto m = [&](std::size_t i) { return mass ? mass[i] : m0; };
-    const double total_mass = deterministic_sum(n, m);
-    Vec<D> mean;
-    for (int a = 0; a < D; ++a)
-      mean[a] = deterministic_sum(n, [&](std::size_t i) { return m(i) * velocity[i][a]; }) / total_mass;
-    const double granular =
-        deterministic_sum(n, [&](std::size_t i) { return m(i) * (velocity[i] - mean).squaredNorm(); }) / (D * static_cast<double>(n));
+    const GlobalMotion<D> global = global_motion<D>(world, world.resource<SrdCells<D>>().particle_mass);
+    const Vec<D>& mean = global.mean;
+    const double granular = global.granular_temperature;
     std::vector<double> density(bins_, 0.0);
-    const double scale = granular > 0 ? 1.0 / std::sqrt(2.0 * granular / (total_mass / static_cast<double>(n))) : 0.0;
+    const double scale = granular > 0 ? 1.0 / std::sqrt(2.0 * granular / (global.total_mass / static_cast<double>(n))) : 0.0;
     const double width = reduced_speed_max / static_cast<double>(bins_);
     // Integer counts: the histogram is exact, so the order does not matter.
     for (std::size_t i = 0; i < n; ++i) {
