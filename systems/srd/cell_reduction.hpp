@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "components/clock.hpp"
 #include "components/mass.hpp"
@@ -43,20 +44,38 @@ class SrdCellReduction : public System {
 
   void run(World& world) override { reduce(world, world.resource<SrdCells<D>>()); }
 
-  // Fills cell c, if a no-slip wall cuts it and it holds fewer than
-  // cells.ghost_fill particles, up to that many with ghost particles
-  // (srd_walls.hpp), keyed by (seed, step, cell). Cells no particle is in
-  // get none: they have nothing to rotate.
-  static void add_ghosts(SrdCells<D>& cells, std::uint32_t c, double time, std::uint64_t step) {
-    cells.ghosts[c] = 0;
-    if (cells.count[c] == 0) return;
+  // The layer of this step's grid that a no-slip wall cuts: where along its
+  // axis (stride: of that axis in the linear cell index) it lies.
+  struct CutLayer {
+    const Wall* wall;
+    std::uint32_t stride;
+    std::int64_t layer;
+  };
+  static std::vector<CutLayer> cut_layers(const SrdCells<D>& cells, double time) {
+    std::vector<CutLayer> out;
     for (const Wall& wall : cells.walls) {
       if (wall.kind != WallKind::no_slip) continue;
       const int a = wall.axis;
       std::uint32_t stride = 1;
       for (int b = 0; b < a; ++b) stride *= static_cast<std::uint32_t>(cells.cells[b]);
-      const auto layer = static_cast<std::int64_t>((c / stride) % static_cast<std::uint32_t>(cells.cells[a]));
-      if (layer != floor_index(wall.position(time) + cells.shift[a] - cells.origin[a])) continue;
+      out.push_back({&wall, stride, floor_index(wall.position(time) + cells.shift[a] - cells.origin[a])});
+    }
+    return out;
+  }
+
+  // Fills cell c, if a no-slip wall cuts it and it holds fewer than
+  // cells.ghost_fill particles, up to that many with ghost particles
+  // (srd_walls.hpp), keyed by (seed, step, cell). Cells no particle is in
+  // get none: they have nothing to rotate. A cell cut by two walls (a
+  // corner) takes the first one's.
+  static void add_ghosts(SrdCells<D>& cells, const std::vector<CutLayer>& cuts, std::uint32_t c, double time,
+                         std::uint64_t step) {
+    cells.ghosts[c] = 0;
+    if (cells.count[c] == 0) return;
+    for (const CutLayer& cut : cuts) {
+      const Wall& wall = *cut.wall;
+      const auto along = static_cast<std::uint32_t>(cells.cells[wall.axis]);
+      if (static_cast<std::int64_t>((c / cut.stride) % along) != cut.layer) continue;
       const auto missing = static_cast<int>(std::llround(cells.ghost_fill)) - static_cast<int>(cells.count[c]);
       if (missing <= 0) return;
       Philox random(stream::srd_ghosts, cells.seed, step, c);
@@ -73,7 +92,7 @@ class SrdCellReduction : public System {
       s.squares += cells.particle_mass * ghosts.scatter + m * offset2;
       s.mass += m;
       cells.ghosts[c] = static_cast<std::uint32_t>(missing);
-      return;  // one wall per cell: the grid is at least three layers deep between walls
+      return;
     }
   }
 
@@ -81,6 +100,7 @@ class SrdCellReduction : public System {
   static void reduce(const World& world, SrdCells<D>& cells) {
     const double time = world.resource<Clock>().time;
     const auto step = static_cast<std::uint64_t>(world.resource<Clock>().step);
+    const std::vector<CutLayer> cuts = cut_layers(cells, time);
     const Vec<D>* velocity = world.component<Velocity<D>>().data();  // D doubles each, packed
     const double* x = world.component<Position<D>>().data()->data();
     const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
@@ -153,7 +173,7 @@ class SrdCellReduction : public System {
             }
           }
           if (!cells.walls.empty())
-            for (std::uint32_t c = begin; c < end; ++c) add_ghosts(cells, c, time, step);
+            for (std::uint32_t c = begin; c < end; ++c) add_ghosts(cells, cuts, c, time, step);
           for (std::uint32_t c = begin; c < end; ++c) {
             if (count[c] == 0) {
               cells.mass[c] = 0.0;
