@@ -63,8 +63,11 @@ void build(Run& run) {
     if (w.axis != 1 || w.kind != srd::WallKind::no_slip || w.moving())
       throw ConfigError("srd_poiseuille is a channel between resting no-slip walls across y: give walls with "
                         "axis = \"y\", kind = \"no_slip\" and no motion, or none");
-  auto acceleration = srd::acceleration_from<D>(c);
-  if (c.reals("force.acceleration").empty()) acceleration[0] = 0.002;
+  if (!c.reals("force.slab").empty())
+    throw ConfigError("srd_poiseuille drives the whole channel: force.slab is for other scenarios");
+  auto force = srd::force_from<D>(c, cells);
+  if (c.reals("force.acceleration").empty()) force.acceleration[0] = 0.002;
+  const double* acceleration = force.acceleration;
   if (acceleration[0] <= 0.0 || acceleration[1] != 0.0)
     throw ConfigError(fmt::format("srd_poiseuille drives the flow along x: force.acceleration needs x > 0 and y = 0 "
                                   "(it has x = {}, y = {})", acceleration[0], acceleration[1]));
@@ -72,7 +75,7 @@ void build(Run& run) {
   if (warmup >= c.integer("run.steps"))
     throw ConfigError(fmt::format("poiseuille.warmup_steps = {} leaves no step to sample before run.steps = {}", warmup,
                                   c.integer("run.steps")));
-  srd::add_srd_fluid<D>(run, walls, acceleration);
+  srd::add_srd_fluid<D>(run, walls, force);
   srd::add_srd_fields<D>(run, cells);
   const double alpha = c.real("srd.rotation_angle") * std::numbers::pi / 180.0;
   const auto n0 = static_cast<double>(c.integer("srd.particles_per_cell"));

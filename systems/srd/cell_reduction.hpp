@@ -54,7 +54,7 @@ class SrdCellReduction : public System {
   static std::vector<CutLayer> cut_layers(const SrdCells<D>& cells, double time) {
     std::vector<CutLayer> out;
     for (const Wall& wall : cells.walls) {
-      if (wall.kind != WallKind::no_slip) continue;
+      if (wall.kind != WallKind::no_slip || !wall.ghosts) continue;
       const int a = wall.axis;
       std::uint32_t stride = 1;
       for (int b = 0; b < a; ++b) stride *= static_cast<std::uint32_t>(cells.cells[b]);

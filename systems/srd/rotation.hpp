@@ -11,6 +11,7 @@
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <numbers>
@@ -104,13 +105,17 @@ class SrdRotation : public System {
     const std::int8_t* image = cells.image.empty() ? nullptr : cells.image.data();
     const double image_speed = cells.shear.velocity;
     const CellCollision* collisions = collisions_.data();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 4096), [&](const auto& range) {
-      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-        if (i + prefetch_distance < range.end()) prefetch(collisions + cell[i + prefetch_distance]);
-        const CellCollision& collision = collisions[cell[i]];
-        collide_particle<D>(v + D * i, collision.matrix, collision.mean, image ? -image[i] * image_speed : 0.0);
-      }
-    });
+    if (!cells.record_energy) {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 4096), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          if (i + prefetch_distance < range.end()) prefetch(collisions + cell[i + prefetch_distance]);
+          const CellCollision& collision = collisions[cell[i]];
+          collide_particle<D>(v + D * i, collision.matrix, collision.mean, image ? -image[i] * image_speed : 0.0);
+        }
+      });
+    } else {
+      collide_and_account(world.size(), cells, v, image, image_speed);
+    }
     cells.clamped_cells = clamped.load();
     total_clamped_ += cells.clamped_cells;
     if (cells.clamped_cells > 0 && !warned_) {
@@ -127,6 +132,41 @@ class SrdRotation : public System {
   const RotationParameters& parameters() const { return p_; }
 
  private:
+  // The particle pass with the energy bookkeeping: each particle's change of
+  // kinetic energy, summed per fixed chunk of particles (the same sums on
+  // any thread count), apart for cells with and without ghost particles.
+  void collide_and_account(std::size_t n, SrdCells<D>& cells, double* v, const std::int8_t* image, double image_speed) {
+    constexpr std::size_t chunk = 4096;
+    const std::size_t chunks = (n + chunk - 1) / chunk;
+    chunk_energy_.assign(2 * chunks, 0.0);
+    const std::uint32_t* cell = cells.cell.data();
+    const std::uint32_t* ghosts = cells.ghosts.empty() ? nullptr : cells.ghosts.data();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks), [&](const auto& range) {
+      for (std::size_t k = range.begin(); k != range.end(); ++k) {
+        double plain = 0.0, ghosted = 0.0;
+        const std::size_t end = std::min(n, (k + 1) * chunk);
+        for (std::size_t i = k * chunk; i != end; ++i) {
+          double* vi = v + D * i;
+          double before = 0.0, after = 0.0;
+          for (int a = 0; a < D; ++a) before += vi[a] * vi[a];
+          const CellCollision& collision = collisions_[cell[i]];
+          collide_particle<D>(vi, collision.matrix, collision.mean, image ? -image[i] * image_speed : 0.0);
+          for (int a = 0; a < D; ++a) after += vi[a] * vi[a];
+          (ghosts && ghosts[cell[i]] > 0 ? ghosted : plain) += 0.5 * (after - before);
+        }
+        chunk_energy_[2 * k] = plain;
+        chunk_energy_[2 * k + 1] = ghosted;
+      }
+    });
+    double plain = 0.0, ghosted = 0.0;
+    for (std::size_t k = 0; k < chunks; ++k) {
+      plain += chunk_energy_[2 * k];
+      ghosted += chunk_energy_[2 * k + 1];
+    }
+    cells.step_collision_energy = cells.particle_mass * plain;
+    cells.step_ghost_cell_energy = cells.particle_mass * ghosted;
+  }
+
   RotationParameters p_;
   CellRotation<D> base_;
   std::uint64_t seed_;
@@ -136,6 +176,7 @@ class SrdRotation : public System {
     double mean[D];
   };
   std::vector<CellCollision> collisions_;  // per cell, this step's
+  std::vector<double> chunk_energy_;
   std::uint64_t total_clamped_ = 0;
   bool warned_ = false;
 };

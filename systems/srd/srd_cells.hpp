@@ -107,6 +107,16 @@ struct SrdCells {
   std::vector<std::uint32_t> ghosts;
   std::uint64_t wall_reflections = 0;  // counted by the streaming, over the run
 
+  // Energy bookkeeping, where record_energy is set: this step's kinetic
+  // energy given by the walls' reflections (only moving walls give any), and
+  // the kinetic energy the collisions changed, in cells without ghost
+  // particles (the granular dissipation, negative) and in cells with them
+  // (dissipation and the heat the ghosts exchange).
+  bool record_energy = false;
+  double step_wall_work = 0.0;
+  double step_collision_energy = 0.0;
+  double step_ghost_cell_energy = 0.0;
+
   // cells_per_axis: the box; `box_walls` end the axes they are on, whose grid
   // then spans the walls' whole motion and one layer beyond.
   SrdCells(std::array<std::int32_t, D> cells_per_axis, std::size_t particles, std::vector<Wall> box_walls = {})

@@ -91,13 +91,18 @@ inline void declare_srd_wall_keys(ConfigSchema& s) {
       .choice("kind", "no_slip", {"no_slip", "slip"},
               "no_slip: bounce-back, cut cells filled with ghost particles; slip: specular reflection")
       .real("temperature", 0.0, 0.0, inf, "temperature of its ghost particles (0: srd.temperature)")
+      .boolean("ghosts", true, "no_slip only: fill the cells it cuts with ghost particles (false: plain bounce-back)")
       .real("amplitude", 0.0, 0.0, inf, "amplitude A of its motion A sin(2 pi f t) along its normal")
       .real("frequency", 0.0, 0.0, inf, "frequency f of that motion");
   wall.unit("temperature", unit::energy).unit("amplitude", unit::length).unit("frequency", unit::rate);
   s.table_array("walls", std::move(wall), 0, 6, "walls replacing the periodic boundary of an axis, both sides of it")
       .real_array("force.acceleration", {}, -1e300, 1e300, 0, 3,
-                  "constant body force per mass (gravity), one entry per dimension; empty: none");
-  s.unit("force.acceleration", unit::acceleration);
+                  "constant body force per mass (gravity), one entry per dimension; empty: none")
+      .real_array("force.slab", {}, -1e300, 1e300, 0, 2,
+                  "[from, to]: the force acts only on particles with from <= coordinate < to along force.slab_axis "
+                  "at the start of a step; empty: everywhere")
+      .choice("force.slab_axis", "y", {"x", "y", "z"}, "the axis force.slab is measured along");
+  s.unit("force.acceleration", unit::acceleration).unit("force.slab", unit::length);
 }
 
 template <int D>
@@ -115,6 +120,7 @@ std::vector<Wall> walls_from(const Config& c, const std::array<std::int32_t, D>&
     w.rest = w.side < 0 ? 0.0 : static_cast<double>(cells[w.axis]);
     w.temperature = t.real("temperature") > 0.0 ? t.real("temperature") : c.real("srd.temperature");
     w.amplitude = t.real("amplitude");
+    w.ghosts = t.boolean("ghosts");
     w.omega = 2.0 * std::numbers::pi * t.real("frequency");
     if (w.amplitude > 0.25 * cells[w.axis])
       throw ConfigError(fmt::format("walls[{}].amplitude = {} exceeds a quarter of the box along {} ({} cells)", k,
@@ -148,6 +154,31 @@ std::array<double, D> acceleration_from(const Config& c) {
   return out;
 }
 
+// force.acceleration with its slab, if any.
+template <int D>
+BodyForce<D> force_from(const Config& c, const std::array<std::int32_t, D>& cells) {
+  BodyForce<D> force;
+  const auto g = acceleration_from<D>(c);
+  for (int a = 0; a < D; ++a) force.acceleration[a] = g[a];
+  const auto& slab = c.reals("force.slab");
+  if (slab.empty()) return force;
+  const std::string& axis_name = c.text("force.slab_axis");
+  const int axis = axis_name == "x" ? 0 : axis_name == "y" ? 1 : 2;
+  if (axis >= D)
+    throw ConfigError(fmt::format("force.slab_axis = {}: the system has {} dimensions", axis_name, D));
+  if (slab.size() != 2 || !(slab[0] < slab[1]))
+    throw ConfigError(fmt::format("force.slab must be [from, to] with from < to (it has {} entries{})", slab.size(),
+                                  slab.size() == 2 ? fmt::format(": {} and {}", slab[0], slab[1]) : ""));
+  if (slab[0] < 0.0 || slab[1] > cells[axis])
+    throw ConfigError(fmt::format("force.slab = [{}, {}] leaves the box: along {} it spans [0, {}]", slab[0], slab[1],
+                                  axis_name, cells[axis]));
+  if (!force.any()) throw ConfigError("force.slab is given but force.acceleration is empty or zero");
+  force.slab_axis = axis;
+  force.from = slab[0];
+  force.to = slab[1];
+  return force;
+}
+
 inline Dissipation dissipation_from(const Config& c) {
   const std::string& rule = c.text("srd.dissipation");
   return rule == "random_axis" ? Dissipation::random_axis : rule == "whole" ? Dissipation::whole : Dissipation::rotated_plane;
@@ -174,7 +205,7 @@ inline RotationParameters rotation_from(const Config& c) {
 
 // The initial fluid, the cells resource, the box and the step chain.
 template <int D>
-void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, std::array<double, D> acceleration = {}) {
+void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = {}, bool record_energy = false) {
   const Config& c = run.config();
   const auto cells = cells_from<D>(c);
   double cell_count = 1.0;
@@ -216,12 +247,13 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, std::array<double, D>
   state.seed = run.seed();
   SrdStreaming<D>::set_shear(state, rate, run.world().template resource<Clock>().time);
   state.record_moments = rate > 0.0;
+  state.record_energy = record_energy;
   SrdCellBinning<D>::assign(run.world(), state);
   SrdCellReduction<D>::reduce(run.world(), state);
   std::vector<double> edges(cells.begin(), cells.end());
   run.box(edges, std::vector<std::string>(D, "periodic"));
   const double dt = c.real("srd.time_step");
-  run.step<SrdStreaming<D>>(dt, rate, acceleration);
+  run.step<SrdStreaming<D>>(dt, rate, force);
   run.step<SrdGridShift<D>>(run.seed(), c.boolean("srd.grid_shift"));
   const double hottest = std::max(temperature, c.real("thermostat.temperature"));
   const auto interval = c.integer("srd.reorder_interval") > 0

@@ -28,10 +28,31 @@ struct Wall {
   double amplitude = 0.0;  // of rest + amplitude sin(omega t)
   double omega = 0.0;
   double temperature = 0.0;  // of its ghost particles
+  bool ghosts = true;        // no-slip only: fill the cells it cuts with ghost particles
 
   GRANFLOW_HD double position(double t) const { return rest + amplitude * std::sin(omega * t); }
   GRANFLOW_HD double velocity(double t) const { return amplitude * omega * std::cos(omega * t); }
   GRANFLOW_HD bool moving() const { return amplitude != 0.0 && omega != 0.0; }
+};
+
+// A constant body force per mass (gravity, or a driving force): everywhere,
+// or only on the particles in the slab from <= x[slab_axis] < to. Which
+// particles feel it is decided at the start of each step; the step's flight
+// of those that do is then the exact parabola.
+template <int D>
+struct BodyForce {
+  double acceleration[D] = {};
+  int slab_axis = -1;  // -1: everywhere
+  double from = 0.0, to = 0.0;
+
+  GRANFLOW_HD bool any() const {
+    for (int a = 0; a < D; ++a)
+      if (acceleration[a] != 0.0) return true;
+    return false;
+  }
+  GRANFLOW_HD bool acts_at(const double* x) const {
+    return slab_axis < 0 || (x[slab_axis] >= from && x[slab_axis] < to);
+  }
 };
 
 // How far inside the fluid a coordinate lies, seen from the wall at time t
@@ -108,11 +129,13 @@ GRANFLOW_HD inline void reflect(const Wall& wall, double t, double* v) {
 
 // Streams one particle over [t0, t0 + dt] under acceleration g between the
 // walls (at most `wall_count`), reflecting it at each wall it meets. Returns
-// the number of reflections. Axes without walls are left for the periodic
-// wrapping of the caller.
+// the number of reflections; adds to `work` (where given) the kinetic energy
+// per mass the reflections gave it, (|v'|^2 - |v|^2) / 2, which only a moving
+// wall makes nonzero. Axes without walls are left for the periodic wrapping
+// of the caller.
 template <int D>
 GRANFLOW_HD inline int stream_between_walls(double* x, double* v, const double* g, double t0, double dt,
-                                            const Wall* walls, int wall_count) {
+                                            const Wall* walls, int wall_count, double* work = nullptr) {
   double done = 0.0;
   int reflections = 0;
   // Enough for any physical step; beyond it the particle is put back inside.
@@ -138,7 +161,14 @@ GRANFLOW_HD inline int stream_between_walls(double* x, double* v, const double* 
     if (first < 0) break;
     // Exactly on the wall, not a round-off beyond it.
     x[walls[first].axis] = walls[first].position(t0 + done);
+    double before = 0.0, after = 0.0;
+    if (work)
+      for (int a = 0; a < D; ++a) before += v[a] * v[a];
     reflect<D>(walls[first], t0 + done, v);
+    if (work) {
+      for (int a = 0; a < D; ++a) after += v[a] * v[a];
+      *work += 0.5 * (after - before);
+    }
     ++reflections;
   }
   for (int w = 0; w < wall_count; ++w)

@@ -8,9 +8,9 @@
 
 #include <tbb/parallel_for.h>
 
-#include <array>
-#include <atomic>
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "components/clock.hpp"
 #include "components/position.hpp"
@@ -29,10 +29,11 @@ template <int D>
 class SrdStreaming : public System {
  public:
   // shear_rate: du_x/dy imposed through the Lees-Edwards planes (0: none);
-  // acceleration: a constant body force per mass (gravity). Walls are the
-  // SrdCells' own; Lees-Edwards planes do not combine with walls or a force.
-  SrdStreaming(double dt, double shear_rate, std::array<double, D> acceleration = {})
-      : dt_(dt), shear_rate_(shear_rate), acceleration_(acceleration) {}
+  // force: a constant body force per mass (gravity, or driving in a slab).
+  // Walls are the SrdCells' own; Lees-Edwards planes do not combine with
+  // walls or a force.
+  SrdStreaming(double dt, double shear_rate, BodyForce<D> force = {})
+      : dt_(dt), shear_rate_(shear_rate), force_(force) {}
 
   std::string name() const override { return "srd_streaming"; }
 
@@ -57,9 +58,7 @@ class SrdStreaming : public System {
     const Shear shear = cells.shear;
     const double* length = cells.length.data();
     const double dt = dt_;
-    bool forced = false;
-    for (double g : acceleration_) forced |= g != 0.0;
-    if (cells.walls.empty() && !forced) {
+    if (cells.walls.empty() && !force_.any()) {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 4096), [&](const auto& range) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) stream_particle<D>(x + D * i, v + D * i, dt, length, shear);
       });
@@ -68,24 +67,44 @@ class SrdStreaming : public System {
     const Wall* walls = cells.walls.data();
     const int wall_count = static_cast<int>(cells.walls.size());
     const unsigned bounded = cells.bounded;
-    const double* g = acceleration_.data();
-    std::atomic<std::uint64_t> reflections{0};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 4096), [&](const auto& range) {
-      std::uint64_t here = 0;
-      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-        here += static_cast<std::uint64_t>(stream_between_walls<D>(x + D * i, v + D * i, g, start, dt, walls, wall_count));
-        for (int a = 0; a < D; ++a)
-          if (!(bounded & (1u << a))) x[D * i + a] = wrapped(x[D * i + a], length[a]);
+    const BodyForce<D> force = force_;
+    const double none[D] = {};
+    // Per fixed chunk of particles, so that the sum of the walls' work does
+    // not depend on the thread count.
+    constexpr std::size_t chunk = 4096;
+    const std::size_t chunks = (world.size() + chunk - 1) / chunk;
+    chunk_work_.assign(chunks, 0.0);
+    chunk_reflections_.assign(chunks, 0);
+    double* chunk_work = cells.record_energy ? chunk_work_.data() : nullptr;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks), [&](const auto& range) {
+      for (std::size_t k = range.begin(); k != range.end(); ++k) {
+        std::uint64_t here = 0;
+        double* work = chunk_work ? chunk_work + k : nullptr;
+        const std::size_t end = std::min(world.size(), (k + 1) * chunk);
+        for (std::size_t i = k * chunk; i != end; ++i) {
+          double* xi = x + D * i;
+          const double* g = force.acts_at(xi) ? force.acceleration : none;
+          here += static_cast<std::uint64_t>(stream_between_walls<D>(xi, v + D * i, g, start, dt, walls, wall_count, work));
+          for (int a = 0; a < D; ++a)
+            if (!(bounded & (1u << a))) xi[a] = wrapped(xi[a], length[a]);
+        }
+        chunk_reflections_[k] = here;
       }
-      reflections += here;
     });
-    cells.wall_reflections += reflections.load();
+    for (std::size_t k = 0; k < chunks; ++k) cells.wall_reflections += chunk_reflections_[k];
+    if (cells.record_energy) {
+      double work = 0.0;
+      for (double w : chunk_work_) work += w;
+      cells.step_wall_work = cells.particle_mass * work;
+    }
   }
 
  private:
   double dt_;
   double shear_rate_;
-  std::array<double, D> acceleration_;
+  BodyForce<D> force_;
+  std::vector<double> chunk_work_;
+  std::vector<std::uint64_t> chunk_reflections_;
 };
 
 }  // namespace granflow::srd

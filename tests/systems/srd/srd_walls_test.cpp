@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "engine/rng.hpp"
@@ -80,6 +81,59 @@ TEST(SrdWalls, BouncingUnderGravityBetweenFixedWallsConservesEnergy) {
     EXPECT_GT(reflections, 100);
     EXPECT_NEAR(energy(), e0, 1e-10 * e0) << "kind " << static_cast<int>(kind);
   }
+}
+
+// Under gravity over a vibrating floor a particle's energy v^2/2 - g z
+// changes only when it meets the moving floor, by the work that reflection
+// reports; over a resting floor not at all.
+TEST(SrdWalls, OverAVibratingFloorEnergyChangesOnlyByTheFloorsWork) {
+  for (const WallKind kind : {WallKind::no_slip, WallKind::slip}) {
+    Wall floor = floor_wall(kind);
+    floor.amplitude = 0.2;
+    floor.omega = 3.0;
+    const Wall walls[2] = {floor, ceiling_wall(kind, 6.0)};
+    const double g[3] = {0.0, 0.0, -1.0};
+    Philox random(7, 8, 9, static_cast<int>(kind));
+    double x[3] = {0.3, 0.7, 2.0}, v[3];
+    for (double& component : v) component = random.normal();
+    const auto energy = [&] { return 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) - g[2] * x[2]; };
+    int floor_hits = 0;
+    double total_work = 0.0;
+    const double e0 = energy();
+    for (int step = 0; step < 20000; ++step) {
+      const double before = energy();
+      double work = 0.0;
+      const int hits = stream_between_walls<3>(x, v, g, 0.05 * step, 0.05, walls, 2, &work);
+      const double t = 0.05 * (step + 1);
+      ASSERT_GE(x[2], floor.position(t) - 1e-12);
+      ASSERT_LE(x[2], 6.0);
+      // Round-off of the flight: a few ulps of the energy per step.
+      ASSERT_NEAR(energy() - before, work, 1e-11 * std::max(1.0, before)) << "step " << step;
+      if (hits == 0) {
+        ASSERT_EQ(work, 0.0);
+      }
+      floor_hits += work != 0.0;
+      total_work += work;
+    }
+    EXPECT_GT(floor_hits, 100) << "kind " << static_cast<int>(kind);
+    EXPECT_NEAR(energy() - e0, total_work, 1e-8 * std::max(1.0, e0));
+  }
+}
+
+TEST(SrdWalls, ASlabForceActsOnlyInsideItsSlab) {
+  BodyForce<3> force;
+  force.acceleration[0] = 0.5;
+  force.slab_axis = 1;
+  force.from = 2.0;
+  force.to = 4.0;
+  EXPECT_TRUE(force.any());
+  const double inside[3] = {9.0, 2.0, 0.0}, upper_edge[3] = {0.0, 4.0, 0.0}, below[3] = {0.0, 1.999, 0.0};
+  EXPECT_TRUE(force.acts_at(inside));
+  EXPECT_FALSE(force.acts_at(upper_edge));
+  EXPECT_FALSE(force.acts_at(below));
+  force.slab_axis = -1;
+  EXPECT_TRUE(force.acts_at(below));
+  EXPECT_FALSE(BodyForce<3>{}.any());
 }
 
 TEST(SrdWalls, MeetingAMovingWallAgreesWithABruteForceRoot) {
