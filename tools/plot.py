@@ -459,6 +459,71 @@ def plot_srd_poiseuille(files, output):
     save(fig, output)
 
 
+def plot_gsrd_shaken(files, output):
+    f = files[0]
+    obs = f["/observables"]
+    n0 = float(f["/parameters/srd"].attrs["particles_per_cell"])
+    dim = int(f["/parameters/system"].attrs["dimension"])
+    has_fields = "fields" in f and "density" in f["/fields"]
+    fig, axes = plt.subplots(2, 2, figsize=(12, 8.5))
+    ax = axes[0, 0]
+    if "density_profile" in obs:
+        density = obs["density_profile/value"][()]
+        temperature = obs["temperature_profile/value"][()]
+        times = obs["density_profile/time"][()]
+        z = np.arange(density.shape[1]) + 0.5
+        for row in sorted({0, len(times) // 2, len(times) - 1}):
+            ax.plot(density[row] / n0, z, "-", label=f"density / n0, t = {times[row]:.4g}")
+        twin = ax.twiny()
+        twin.plot(temperature[-1], z, "k--", lw=1, label=f"kT, t = {times[-1]:.4g}")
+        twin.set_xlabel("kT of the layer [M L2 T-2] (dashed)")
+        ax.set_xlabel("density / n0 (particles per cell / n0)")
+        ax.set_ylabel("height [cells]")
+        ax.legend(fontsize=7, loc="upper right")
+        ax.set_title("profiles: a dense layer over a hot one", fontsize=10)
+    t, injected = series(f, "energy_injected")
+    _, dissipated = series(f, "energy_dissipated")
+    _, kinetic = series(f, "kinetic_energy")
+    _, potential = series(f, "potential_energy")
+    _, error = series(f, "energy_balance_error")
+    ax = axes[0, 1]
+    ax.plot(t, injected, label="injected by the floor")
+    ax.plot(t, dissipated, label="dissipated in collisions")
+    ax.plot(t, kinetic + potential - kinetic[0] - potential[0], label="change of kinetic + potential energy")
+    ax.plot(t, injected - dissipated, "k:", label="injected - dissipated")
+    ax.set_xlabel("t [T]")
+    ax.set_ylabel("energy [M L2 T-2]")
+    ax.set_title(f"largest balance error {np.abs(error).max():.2g}", fontsize=10)
+    ax.legend(fontsize=7)
+    ax = axes[1, 0]
+    _, peak = series(f, "peak_cell_density")
+    _, height = series(f, "centre_of_mass_height")
+    ax.semilogy(t, peak, "o-", ms=3, label="peak cell density / n0")
+    ax.set_xlabel("t [T]")
+    ax.set_ylabel("peak cell density / n0 (growing: collapse)")
+    twin = ax.twinx()
+    twin.plot(t, height, "C1-", label="centre of mass height")
+    twin.set_ylabel("centre of mass height [cells] (orange)")
+    ax.legend(fontsize=7, loc="upper left")
+    ax = axes[1, 1]
+    if has_fields:
+        group = f["/fields/density"]
+        value, when = group["value"][-1], group["time"][-1]
+        side = value[:, value.shape[1] // 2, :] if value.ndim == 3 else value
+        image = ax.imshow(side, origin="lower", cmap="viridis", aspect="auto")
+        plt.colorbar(image, ax=ax, label="particles per cell")
+        ax.set_title(f"density, side view, t = {when:.4g}" + (", y = L_y/2" if value.ndim == 3 else ""), fontsize=10)
+        ax.set_xlabel("x [cells]")
+        ax.set_ylabel("height [cells]")
+    else:
+        ax.set_visible(False)
+    amplitude = float(f["/parameters/shaking"].attrs["amplitude"])
+    frequency = float(f["/parameters/shaking"].attrs["frequency"])
+    eps = float(f["/parameters/srd"].attrs["restitution"])
+    fig.suptitle(f"granular SRD shaken from below ({dim}D): A = {amplitude:g}, f = {frequency:g}, $\\epsilon$ = {eps:g}")
+    save(fig, output)
+
+
 PLOTTERS = {"haff_cooling": lambda files, output: plot_haff(files[0], output),
             "speed_distribution": plot_speed_distribution,
             "mixture": plot_mixture,
@@ -469,6 +534,7 @@ PLOTTERS = {"haff_cooling": lambda files, output: plot_haff(files[0], output),
             "brownian_edmd": plot_msd,
             "srd_viscosity": plot_srd_viscosity,
             "srd_poiseuille": plot_srd_poiseuille,
+            "gsrd_shaken": plot_gsrd_shaken,
             "gsrd_cooling": plot_gsrd_cooling}
 
 

@@ -13,6 +13,7 @@
 // height to count it from), so the balance holds without a thermostat and
 // with the force along walled axes, acting everywhere.
 
+#include <array>
 #include <memory>
 #include <stdexcept>
 
@@ -36,6 +37,9 @@ inline const SystemDescription observe_srd_energy_description{
 
 class EnergyLedger : public Stateful {
  public:
+  // Shared by the account and the observer (not a World resource): the key
+  // of their access declarations, which orders them.
+  static constexpr const char* key = "srd_energy_ledger";
   double injected = 0.0;
   double dissipated = 0.0;
   double ghost_exchange = 0.0;
@@ -62,7 +66,7 @@ class SrdEnergyAccount : public System {
  public:
   explicit SrdEnergyAccount(std::shared_ptr<EnergyLedger> ledger) : ledger_(std::move(ledger)) {}
   std::string name() const override { return "account_srd_energy"; }
-  Access access() const override { return Access{}.reads<SrdCells<D>>(); }
+  Access access() const override { return Access{}.reads<SrdCells<D>>().template writes<EnergyLedger>(); }
   void run(World& world) override {
     const auto& cells = world.resource<SrdCells<D>>();
     if (!cells.record_energy) throw std::logic_error("account_srd_energy needs SrdCells::record_energy");
@@ -85,6 +89,7 @@ class SrdEnergyObserver : public System {
   Access access() const override {
     return Access{}
         .reads<Position<D>, Velocity<D>, SrdCells<D>>()
+        .template writes<EnergyLedger>()
         .writes_observable("kinetic_energy", unit::energy)
         .writes_observable("potential_energy", unit::energy)
         .writes_observable("energy_injected", unit::energy)

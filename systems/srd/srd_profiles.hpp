@@ -38,6 +38,9 @@ inline const SystemDescription observe_srd_profiles_description{
 // since the warm-up.
 class ProfileSums : public Stateful {
  public:
+  // Shared by the sampler and the observer (not a World resource): the key
+  // of their access declarations, which orders them.
+  static constexpr const char* key = "srd_profile_sums";
   ProfileSums(int layers, int dimension) : layers_(layers), dimension_(dimension) {
     block_.assign(static_cast<std::size_t>(layers) * width(), 0.0);
     total_ = block_;
@@ -114,7 +117,7 @@ class SrdProfileSampler : public System {
   SrdProfileSampler(int axis, int flow, std::shared_ptr<ProfileSums> sums) : axis_(axis), flow_(flow), sums_(std::move(sums)) {}
 
   std::string name() const override { return "sample_srd_profiles"; }
-  Access access() const override { return Access{}.reads<Position<D>, Velocity<D>>(); }
+  Access access() const override { return Access{}.reads<Position<D>, Velocity<D>>().template writes<ProfileSums>(); }
 
   void run(World& world) override {
     const auto& x = world.component<Position<D>>();
@@ -148,6 +151,7 @@ class SrdProfileObserver : public System {
   std::string name() const override { return "observe_srd_profiles"; }
   Access access() const override {
     return Access{}
+        .writes<ProfileSums>()
         .writes_observable("velocity_profile", unit::velocity)
         .writes_observable("density_profile", "L-" + std::to_string(D))
         .writes_observable("temperature_profile", unit::energy);

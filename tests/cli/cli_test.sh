@@ -48,6 +48,12 @@ expect_error "walls[0].axis = z: the system has 2 dimensions" run "$channel" \
 expect_error "force.acceleration has 3 entries; system.dimension = 2 needs 2" run "$channel" \
   --set 'force.acceleration=[0.01, 0, 0]' -o "$work/x.h5"
 expect_error "drives the flow along x" run "$channel" --set 'force.acceleration=[0, 0.01]' -o "$work/x.h5"
+shaken="$(dirname "$scenario")/gsrd_shaken.toml"
+expect_error "force.slab = [2, 50] leaves the box" run "$shaken" --set 'force.acceleration=[0.1, 0, 0]' \
+  --set 'force.slab=[2, 50]' -o "$work/x.h5"
+expect_error "force.slab must be [from, to] with from < to" run "$shaken" --set 'force.slab=[3, 1]' -o "$work/x.h5"
+expect_error "shaking.amplitude = 15 exceeds a quarter of the height" run "$shaken" --set shaking.amplitude=15 -o "$work/x.h5"
+expect_error "thermostat.temperature must be 0" run "$shaken" --set thermostat.temperature=1 -o "$work/x.h5"
 printf 'scenario = 3\n' > "$work/number.toml"
 expect_error "'scenario' must be a scenario name in quotes" run "$work/number.toml"
 printf 'scenario = "haff_cooling"\n[system\ncount = 3\n' > "$work/broken.toml"

@@ -1,0 +1,50 @@
+#pragma once
+// Where the mass of a fluid under gravity sits: centre_of_mass_height (the
+// mean coordinate along the walls' axis) and peak_cell_density (the most
+// particles any cell of this step's grid holds, over the mean n0), which
+// grows without bound where the fluid collapses into one dense spot.
+
+#include <algorithm>
+
+#include "components/position.hpp"
+#include "engine/deterministic_sum.hpp"
+#include "engine/observable_store.hpp"
+#include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
+#include "engine/units.hpp"
+#include "engine/world.hpp"
+#include "systems/srd/srd_cells.hpp"
+
+namespace granflow::srd {
+
+inline const SystemDescription observe_srd_height_description{
+    "observe_srd_height", "centre_of_mass_height along the walls' axis and peak_cell_density (collapse)"};
+
+template <int D>
+class SrdHeightObserver : public System {
+ public:
+  SrdHeightObserver(int axis, double mean_per_cell) : axis_(axis), mean_per_cell_(mean_per_cell) {}
+  std::string name() const override { return "observe_srd_height"; }
+  Access access() const override {
+    return Access{}
+        .reads<Position<D>, SrdCells<D>>()
+        .writes_observable("centre_of_mass_height", unit::length)
+        .writes_observable("peak_cell_density", unit::none);
+  }
+  void run(World& world) override {
+    const auto& x = world.component<Position<D>>();
+    const auto& cells = world.resource<SrdCells<D>>();
+    const double height =
+        deterministic_sum(world.size(), [&](std::size_t i) { return x[i][axis_]; }) / static_cast<double>(world.size());
+    const std::uint32_t peak = cells.count.empty() ? 0 : *std::max_element(cells.count.begin(), cells.count.end());
+    auto& store = world.resource<ObservableStore>();
+    store.set("centre_of_mass_height", height);
+    store.set("peak_cell_density", peak / mean_per_cell_);
+  }
+
+ private:
+  int axis_;
+  double mean_per_cell_;
+};
+
+}  // namespace granflow::srd
