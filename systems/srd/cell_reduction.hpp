@@ -71,26 +71,13 @@ class SrdCellReduction : public System {
   static void add_ghosts(SrdCells<D>& cells, const std::vector<CutLayer>& cuts, std::uint32_t c, double time,
                          std::uint64_t step) {
     cells.ghosts[c] = 0;
-    if (cells.count[c] == 0) return;
     for (const CutLayer& cut : cuts) {
       const Wall& wall = *cut.wall;
       const auto along = static_cast<std::uint32_t>(cells.cells[wall.axis]);
       if (static_cast<std::int64_t>((c / cut.stride) % along) != cut.layer) continue;
-      const auto missing = static_cast<int>(std::llround(cells.ghost_fill)) - static_cast<int>(cells.count[c]);
-      if (missing <= 0) return;
-      Philox random(stream::srd_ghosts, cells.seed, step, c);
-      const GhostSums ghosts = ghost_sums<D>(missing, wall, time, cells.particle_mass, random);
-      // Added to the sums about the reference: m n (mean - r) and m (scatter + n |mean - r|^2).
-      CellSums<D>& s = cells.sums[c];
-      const double m = cells.particle_mass * missing;
-      double offset2 = 0.0;
-      for (int b = 0; b < D; ++b) {
-        const double offset = ghosts.mean[b] - s.reference[b];
-        s.sum[b] += m * offset;
-        offset2 += offset * offset;
-      }
-      s.squares += cells.particle_mass * ghosts.scatter + m * offset2;
-      s.mass += m;
+      const int missing = ghost_count(cells.count[c], cells.ghost_fill);
+      if (missing == 0) return;
+      add_ghosts_to_sums<D>(cells.sums[c], missing, wall, time, cells.particle_mass, cells.seed, step, c);
       cells.ghosts[c] = static_cast<std::uint32_t>(missing);
       return;
     }
@@ -147,26 +134,12 @@ class SrdCellReduction : public System {
               for (int a = 0; a < D; ++a) seen[a] = v[D * i + a];
               if (image) seen[0] -= image[i] * image_speed;
               CellSums<D>& s = sums[c];
-              if (count[c]++ == 0) {
-                for (int a = 0; a < D; ++a) {
-                  s.reference[a] = seen[a];
-                  s.sum[a] = 0.0;
-                }
-                s.squares = 0.0;
-                s.mass = 0.0;
-              }
-              const double m = mass ? mass[i] : m0;
-              double w[D], w2 = 0.0;
-              for (int a = 0; a < D; ++a) {
-                w[a] = seen[a] - s.reference[a];
-                w2 += w[a] * w[a];
-              }
-              s.mass += m;
-              for (int a = 0; a < D; ++a) s.sum[a] += m * w[a];
-              s.squares += m * w2;
+              if (count[c]++ == 0) start_sums<D>(s, seen);
+              double w[D];
+              add_to_sums<D>(s, seen, mass ? mass[i] : m0, w);
               if (moments) {
                 const double y = x[D * i + 1] + y_shift;
-                const double offset = m * (y - static_cast<double>(floor_index(y)) - 0.5);  // from the cell's centre
+                const double offset = (mass ? mass[i] : m0) * (y - static_cast<double>(floor_index(y)) - 0.5);  // from the cell's centre
                 for (int a = 0; a < D; ++a) moment[D * c + a] += offset * w[a];
                 moment_mass[c] += offset;
               }
@@ -181,17 +154,12 @@ class SrdCellReduction : public System {
               cells.theta[c] = 0.0;
               continue;
             }
-            const CellSums<D>& s = sums[c];
-            double variance = s.squares;
-            for (int a = 0; a < D; ++a) {
-              const double drift = s.sum[a] / s.mass;  // V - reference
-              variance -= s.sum[a] * drift;
-              cells.velocity[c][a] = s.reference[a] + drift;
-              if (moments) moment[D * c + a] -= moment_mass[c] * drift;
-            }
-            cells.mass[c] = s.mass;
             const double members = count[c] + (cells.ghosts.empty() ? 0.0 : cells.ghosts[c]);
-            cells.theta[c] = std::max(0.0, variance) / (D * members);
+            double drift[D];
+            finish_sums<D>(sums[c], members, cells.velocity[c].data(), cells.theta[c], drift);
+            cells.mass[c] = sums[c].mass;
+            if (moments)
+              for (int a = 0; a < D; ++a) moment[D * c + a] -= moment_mass[c] * drift[a];
           }
         },
         tbb::simple_partitioner{});

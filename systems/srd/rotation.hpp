@@ -39,6 +39,10 @@ struct RotationParameters {
   bool record_transfer = false;
 };
 
+inline GranularParameters granular_parameters(const RotationParameters& p) {
+  return {p.restitution < 1.0 && p.diameter > 0.0, p.restitution, p.diameter, p.dt};
+}
+
 // What every cell's rotation shares: the angle's cosine and sine (computed
 // once, not per cell and step) and the dissipation rule.
 template <int D>
@@ -65,7 +69,7 @@ class SrdRotation : public System {
   void run(World& world) override {
     auto& cells = world.resource<SrdCells<D>>();
     const auto step = static_cast<std::uint64_t>(world.resource<Clock>().step);
-    const bool granular = p_.restitution < 1.0 && p_.diameter > 0.0;
+    const GranularParameters granular = granular_parameters(p_);
     const bool transfer = p_.record_transfer && D >= 2 && cells.record_moments;
     const std::size_t cell_count = cells.cell_count();
     collisions_.resize(cell_count);
@@ -76,26 +80,11 @@ class SrdRotation : public System {
       for (std::size_t c = range.begin(); c != range.end(); ++c) {
         CellCollision& collision = collisions_[c];
         for (int a = 0; a < D; ++a) collision.mean[a] = cells.velocity[c][a];
-        cells.transfer[c] = 0.0;
         const double members = cells.count[c] + (cells.ghosts.empty() ? 0.0 : cells.ghosts[c]);
-        if (members < 2) {  // one particle has no thermal velocity
-          for (int a = 0; a < D * D; ++a) collision.matrix[a] = a % (D + 1) == 0 ? 1.0 : 0.0;
-          continue;
-        }
-        CellRotation<D> r = cell_rotation<D>(base_, seed_, step, c);
-        if (granular) {
-          bool below_zero = false;
-          r.eps = effective_restitution(p_.restitution, p_.diameter, members, cells.theta[c], p_.dt, below_zero);
-          clamped_here += below_zero;
-        }
-        r.matrix(collision.matrix);
-        // The x momentum the collision moves across the cell's centre plane:
-        // sum m dv_x (y - y_cell) = ((M - 1) row x) . sum m (v - V) (y - y_cell).
-        if (transfer) {
-          double sum = -cells.moment[c][0];
-          for (int b = 0; b < D; ++b) sum += collision.matrix[b] * cells.moment[c][b];
-          cells.transfer[c] = sum;
-        }
+        bool below_zero = false;
+        cell_collision_matrix<D>(base_, granular, seed_, step, c, members, cells.theta[c], collision.matrix, below_zero);
+        clamped_here += below_zero;
+        cells.transfer[c] = transfer && members >= 2 ? collisional_transfer<D>(collision.matrix, cells.moment[c].data()) : 0.0;
       }
       clamped += clamped_here;
     });

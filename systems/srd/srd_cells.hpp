@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "components/vector.hpp"
+#include "systems/srd/srd_cell_kernels.hpp"
 #include "systems/srd/srd_kernels.hpp"
 #include "systems/srd/srd_walls.hpp"
 
@@ -37,16 +38,6 @@ struct BlockCells {
     if (last < cell_count) return first < end && last >= begin;
     return first < end || last - cell_count >= begin;  // wraps past the last cell
   }
-};
-
-// A cell's running sums in the reduction, together in one cache line: taken
-// about the velocity `reference` of the cell's first particle.
-template <int D>
-struct alignas(64) CellSums {
-  double reference[D];
-  double sum[D];      // sum m (v - reference)
-  double squares;     // sum m |v - reference|^2
-  double mass;
 };
 
 // Between reorderings a particle's cell record is rarely in cache: it is
