@@ -18,6 +18,13 @@ void Profiler::record(std::size_t slot, double seconds) {
   entries_[slot].total_seconds += seconds;
 }
 
+void Profiler::record_device(const ProfileEntry& entry) {
+  const std::size_t slot = register_system(entry.system);
+  std::lock_guard lock(mutex_);
+  entries_[slot].calls += entry.calls;
+  entries_[slot].total_seconds += entry.total_seconds;
+}
+
 std::vector<ProfileEntry> Profiler::entries() const {
   std::lock_guard lock(mutex_);
   return entries_;

@@ -24,6 +24,9 @@ class Profiler {
   // Returns a slot index; registration order is the table order.
   std::size_t register_system(const std::string& name);
   void record(std::size_t slot, double seconds);
+  // Adds calls and time an accelerator's own clock measured for a stage
+  // (named system/stage), summed into any earlier entry of that name.
+  void record_device(const ProfileEntry& entry);
   std::vector<ProfileEntry> entries() const;
   std::string table() const;
 

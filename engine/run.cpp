@@ -84,7 +84,12 @@ void Run::prepare() {
   recorder_->replay(file_, state_under(*resume_, "history"));
 }
 
-StateMap Run::save() const {
+void Run::synchronise_host() {
+  for (const auto& system : steps_.systems()) system->synchronise_host(world_);
+}
+
+StateMap Run::save() {
+  synchronise_host();
   StateMap out;
   put_state_under(out, "world", world_.save_columns());
   out["world.size"] = {static_cast<double>(world_.size())};
@@ -108,6 +113,7 @@ void Run::run_observers(Due&& due) {
     any = any || enabled_[k];
   }
   if (!any) return;
+  synchronise_host();
   enabled_.back() = true;  // the recorder
   observers_.run(world_, enabled_);
 }
@@ -199,6 +205,9 @@ double Run::progress_fraction() const {
 }
 
 void Run::write_results(const RunOutcome& outcome) {
+  synchronise_host();
+  for (const auto& system : steps_.systems())
+    for (const ProfileEntry& entry : system->device_profile()) profiler_.record_device(entry);
   if (!file_) return;
   if (!box_edges_.empty()) file_->write_box(box_edges_, box_boundary_);
   for (const auto& [name, value] : derived_) file_->write_attribute("/parameters/derived", name, value);

@@ -121,7 +121,7 @@ class Run {
   // Advances to the end, an error or an interruption. `after_round` runs
   // after every round of observers (checkpoints, progress).
   RunOutcome execute(const std::atomic<bool>* interrupt, const std::function<void()>& after_round = {});
-  StateMap save() const;
+  StateMap save();  // brings device-resident state to the host first
   void write_results(const RunOutcome& outcome);  // box, derived, particle constants, hooks, stop reason
   double progress_fraction() const;
   double work_done() const { return work_ ? work_() : static_cast<double>(world_.resource<Clock>().step); }
@@ -139,6 +139,7 @@ class Run {
   void add_trigger(const TriggerPtr& trigger);
   void fire(bool stopping, double target_time, std::int64_t target_step);
   void fire_at_end();
+  void synchronise_host();
   template <class Due>
   void run_observers(Due&& due);
 

@@ -4,8 +4,10 @@
 // by hand.
 
 #include <string>
+#include <vector>
 
 #include "engine/access.hpp"
+#include "engine/profiler.hpp"
 
 namespace granflow {
 
@@ -17,6 +19,14 @@ class System {
   virtual std::string name() const = 0;
   virtual Access access() const = 0;
   virtual void run(World& world) = 0;
+
+  // For a system whose state lives on an accelerator: bring the World's
+  // columns and resources up to date, before observers or a checkpoint read
+  // them (the Run calls it; between such times the state stays there).
+  virtual void synchronise_host(World&) {}
+  // Its stages as the accelerator's own clock timed them: the wall time of
+  // an asynchronous launch says nothing. Added to the /profile table.
+  virtual std::vector<ProfileEntry> device_profile() const { return {}; }
 };
 
 }  // namespace granflow

@@ -4,6 +4,8 @@
 // every particle, drawn from the run's seed and the step. Without it the
 // method is not Galilean invariant at small mean free paths.
 
+#include <array>
+
 #include "components/clock.hpp"
 #include "engine/rng.hpp"
 #include "engine/stream_ids.hpp"
@@ -26,13 +28,17 @@ class SrdGridShift : public System {
   Access access() const override { return Access{}.reads<Clock>().template writes<SrdCells<D>>(); }
 
   void run(World& world) override {
-    auto& cells = world.resource<SrdCells<D>>();
-    if (!enabled_) {
-      cells.shift.fill(0.0);
+    draw(world.resource<SrdCells<D>>().shift, seed_, static_cast<std::uint64_t>(world.resource<Clock>().step), enabled_);
+  }
+
+  // The shift of `step` (zero where the shift is off): what the CPU step and the CUDA step both use.
+  static void draw(std::array<double, D>& shift, std::uint64_t seed, std::uint64_t step, bool enabled) {
+    if (!enabled) {
+      shift.fill(0.0);
       return;
     }
-    Philox random(stream::srd_grid_shift, seed_, static_cast<std::uint64_t>(world.resource<Clock>().step), 0);
-    for (int a = 0; a < D; ++a) cells.shift[a] = random.uniform() - 0.5;
+    Philox random(stream::srd_grid_shift, seed, step, 0);
+    for (int a = 0; a < D; ++a) shift[a] = random.uniform() - 0.5;
   }
 
  private:

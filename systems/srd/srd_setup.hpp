@@ -31,6 +31,9 @@
 #include "systems/srd/streaming.hpp"
 #include "systems/srd/srd_walls.hpp"
 #include "systems/srd/thermostat.hpp"
+#if GRANFLOW_HAVE_CUDA
+#include "systems/srd/srd_device_step.hpp"
+#endif
 
 namespace granflow::srd {
 
@@ -67,6 +70,9 @@ inline void declare_srd_keys(ConfigSchema& s, const SrdDefaults& d) {
                "between 5 and 100)")
       .real("shear.rate", d.shear_rate, 0.0, inf, "shear rate du_x/dy through Lees-Edwards planes along y (0: none)")
       .real("thermostat.temperature", d.thermostat, 0.0, inf, "target temperature of the global thermostat (0: none)")
+      .choice("srd.device", "cpu", {"cpu", "cuda"},
+              "where the step runs: cpu (every core, oneTBB) or cuda (an NVIDIA GPU; needs a build with "
+              "GRANFLOW_CUDA=ON and a CUDA driver)")
       .integer("run.steps", d.steps, 1, 1000000000000, "collision steps to run")
       .integer("fields.every_steps", 0, 0, 1000000000000,
                "steps between density, velocity and temperature fields to /fields (0: none)")
@@ -203,6 +209,35 @@ inline RotationParameters rotation_from(const Config& c) {
           dissipation_from(c), c.real("shear.rate") > 0.0};
 }
 
+// The step on a CUDA device (srd_device_step.hpp), or why it cannot run.
+template <int D>
+void add_device_step([[maybe_unused]] Run& run, [[maybe_unused]] const SrdCells<D>& cells,
+                     [[maybe_unused]] std::size_t particles, [[maybe_unused]] const BodyForce<D>& force,
+                     [[maybe_unused]] std::uint64_t reorder_interval, [[maybe_unused]] bool walled) {
+#if GRANFLOW_HAVE_CUDA
+  const Config& c = run.config();
+  if (const std::string why = cuda::srd_device_unavailable(); !why.empty())
+    throw ConfigError("srd.device = \"cuda\": " + why + "; use srd.device = \"cpu\" on this machine");
+  DeviceStepParameters p;
+  p.dt = c.real("srd.time_step");
+  p.shear_rate = c.real("shear.rate");
+  for (int a = 0; a < D; ++a) p.force.acceleration[a] = force.acceleration[a];
+  p.force.slab_axis = force.slab_axis;
+  p.force.from = force.from;
+  p.force.to = force.to;
+  p.rotation = rotation_from(c);
+  p.grid_shift = c.boolean("srd.grid_shift");
+  p.seed = run.seed();
+  p.reorder_interval = reorder_interval;
+  p.thermostat = c.real("thermostat.temperature");
+  p.thermostat_removes_drift = !walled;
+  run.step<SrdDeviceStep<D>>(p, cells, particles);
+#else
+  throw ConfigError("srd.device = \"cuda\": this build has no CUDA back end; configure with -DGRANFLOW_CUDA=ON "
+                    "(needs nvcc) or use srd.device = \"cpu\"");
+#endif
+}
+
 // The initial fluid, the cells resource, the box and the step chain.
 template <int D>
 void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = {}, bool record_energy = false) {
@@ -253,18 +288,22 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = 
   std::vector<double> edges(cells.begin(), cells.end());
   run.box(edges, std::vector<std::string>(D, "periodic"));
   const double dt = c.real("srd.time_step");
-  run.step<SrdStreaming<D>>(dt, rate, force);
-  run.step<SrdGridShift<D>>(run.seed(), c.boolean("srd.grid_shift"));
   const double hottest = std::max(temperature, c.real("thermostat.temperature"));
   const auto interval = c.integer("srd.reorder_interval") > 0
                             ? static_cast<std::uint64_t>(c.integer("srd.reorder_interval"))
                             : reorder_interval_for(std::sqrt(hottest) * dt);
   run.derive("reorder_interval", static_cast<double>(interval));
-  run.step<SrdCellBinning<D>>(interval);
-  run.step<SrdCellReduction<D>>();
-  run.step<SrdRotation<D>>(rotation_from(c), run.seed());
-  // Walls fix the frame: the thermostat then keeps the mean flow.
-  if (c.real("thermostat.temperature") > 0.0) run.step<SrdThermostat<D>>(c.real("thermostat.temperature"), !walled);
+  if (c.text("srd.device") == "cuda") {
+    add_device_step<D>(run, state, n, force, interval, walled);
+  } else {
+    run.step<SrdStreaming<D>>(dt, rate, force);
+    run.step<SrdGridShift<D>>(run.seed(), c.boolean("srd.grid_shift"));
+    run.step<SrdCellBinning<D>>(interval);
+    run.step<SrdCellReduction<D>>();
+    run.step<SrdRotation<D>>(rotation_from(c), run.seed());
+    // Walls fix the frame: the thermostat then keeps the mean flow.
+    if (c.real("thermostat.temperature") > 0.0) run.step<SrdThermostat<D>>(c.real("thermostat.temperature"), !walled);
+  }
   run.stop_at_step(c.integer("run.steps"));
   run.finished_reason("reached run.steps");
   run.rate("particle-steps/s", [&run, particles] { return particles * static_cast<double>(run.clock().step); });

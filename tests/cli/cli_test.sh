@@ -54,6 +54,8 @@ expect_error "force.slab = [2, 50] leaves the box" run "$shaken" --set 'force.ac
 expect_error "force.slab must be [from, to] with from < to" run "$shaken" --set 'force.slab=[3, 1]' -o "$work/x.h5"
 expect_error "shaking.amplitude = 15 exceeds a quarter of the height" run "$shaken" --set shaking.amplitude=15 -o "$work/x.h5"
 expect_error "thermostat.temperature must be 0" run "$shaken" --set thermostat.temperature=1 -o "$work/x.h5"
+# A build without CUDA says so; one with it, on a machine without a driver, says that.
+expect_error 'srd.device = "cuda": ' run "$shaken" --set srd.device=cuda -o "$work/x.h5"
 printf 'scenario = 3\n' > "$work/number.toml"
 expect_error "'scenario' must be a scenario name in quotes" run "$work/number.toml"
 printf 'scenario = "haff_cooling"\n[system\ncount = 3\n' > "$work/broken.toml"

@@ -1,0 +1,113 @@
+#pragma once
+// The SRD step on an NVIDIA GPU, with the particle columns resident in
+// device memory: plain C++ types only, so that host code includes it
+// without the CUDA headers (the kernels are in srd_device.cu). Each stage
+// calls the same GRANFLOW_HD functions as the CPU systems, in the same
+// order: streaming (systems/srd/srd_walls.hpp, srd_kernels.hpp), the
+// shifted cell of each particle, a stable radix sort of (cell, particle)
+// (CUB), each cell's sums in storage order about its first particle and
+// its ghosts (srd_cell_kernels.hpp), each cell's collision operator, each
+// particle's collision, then the thermostat. Every `reorder_interval` steps
+// the columns are gathered into cell order, as the CPU's counting sort puts
+// them, so both back ends keep the particles in the same order.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/profiler.hpp"
+#include "systems/srd/srd_cell_kernels.hpp"
+#include "systems/srd/srd_kernels.hpp"
+#include "systems/srd/srd_walls.hpp"
+
+namespace granflow::cuda {
+
+// Empty where a CUDA device is usable; otherwise why not (no driver, no
+// device), in words for an error message.
+std::string srd_device_unavailable();
+
+struct SrdDeviceSetup {
+  int dimension = 3;
+  std::int32_t cells[3] = {1, 1, 1};  // of the grid (bounded axes with their outer layers)
+  double length[3] = {1, 1, 1};       // of the periodic box
+  double origin[3] = {0, 0, 0};
+  unsigned bounded = 0;
+  srd::Wall walls[6];
+  int wall_count = 0;
+  double acceleration[3] = {0, 0, 0};
+  int slab_axis = -1;
+  double slab_from = 0.0, slab_to = 0.0;
+  double dt = 1.0;
+  double particle_mass = 1.0;
+  double ghost_fill = 0.0;
+  std::uint64_t seed = 0;
+  double cos_alpha = 1.0, sin_alpha = 0.0;
+  srd::Dissipation rule = srd::Dissipation::rotated_plane;
+  srd::GranularParameters granular;
+  bool shear = false;            // Lees-Edwards planes along y
+  bool record_moments = false;   // and the collisional transfer per cell
+  bool record_energy = false;    // wall work and collision energy per step
+  double thermostat = 0.0;       // target temperature (0: none)
+  bool thermostat_removes_drift = true;
+  std::uint64_t reorder_interval = 20;
+};
+
+// What the host supplies per step: its number, the times it starts and ends
+// at, the grid shift and the Lees-Edwards state (computed on the host as the
+// CPU systems compute them).
+struct SrdDeviceStep {
+  std::uint64_t step = 0;
+  double start_time = 0.0, end_time = 0.0;
+  double shift[3] = {0, 0, 0};
+  srd::Shear shear;
+};
+
+struct SrdDeviceReport {
+  std::uint64_t reflections = 0;
+  std::uint64_t clamped_cells = 0;
+  double wall_work = 0.0;
+  double collision_energy = 0.0;
+  double ghost_cell_energy = 0.0;
+};
+
+// Host arrays download() fills: particles (D doubles each for x and v), per
+// particle its cell and (with shear) its Lees-Edwards image, per cell its
+// count, ghosts, mass, mean velocity (D doubles), theta and (with moments)
+// the collisional transfer. A null pointer skips that array.
+struct SrdHostArrays {
+  double* x = nullptr;
+  double* v = nullptr;
+  std::uint32_t* cell = nullptr;
+  std::int8_t* image = nullptr;
+  std::uint32_t* count = nullptr;
+  std::uint32_t* ghosts = nullptr;
+  double* mass = nullptr;
+  double* velocity = nullptr;
+  double* theta = nullptr;
+  double* transfer = nullptr;
+};
+
+class SrdDevice {
+ public:
+  // Throws std::runtime_error naming the problem where no device is usable
+  // or its memory is too small.
+  SrdDevice(const SrdDeviceSetup& setup, std::size_t particles);
+  ~SrdDevice();
+  SrdDevice(const SrdDevice&) = delete;
+  SrdDevice& operator=(const SrdDevice&) = delete;
+
+  void upload(const double* x, const double* v);
+  SrdDeviceReport step(const SrdDeviceStep& step);
+  void download(const SrdHostArrays& host);
+  // Per stage: launches and the time between CUDA events around them.
+  std::vector<ProfileEntry> profile() const;
+  // Device memory held, in bytes.
+  std::size_t bytes() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace granflow::cuda

@@ -1,0 +1,152 @@
+#pragma once
+// The whole SRD step on a CUDA device (srd.device = "cuda"): one system in
+// place of streaming, grid shift, binning, reduction, rotation and
+// thermostat, with the particle columns resident in device memory
+// (cuda/srd_device.cuh). The host computes what the CPU systems compute
+// from the clock alone (the step number, the grid shift, the Lees-Edwards
+// state) and copies the state back only when observers or a checkpoint
+// read it (synchronise_host): the particles and this step's cell data, in
+// the device's storage order, which is the CPU's as both put the particles
+// in cell order at the same steps.
+//
+// Only in builds with GRANFLOW_CUDA; srd_setup.hpp refuses the key elsewhere.
+
+#include <spdlog/spdlog.h>
+
+#include <array>
+#include <memory>
+#include <numbers>
+#include <vector>
+
+#include "components/clock.hpp"
+#include "components/position.hpp"
+#include "components/velocity.hpp"
+#include "cuda/srd_device.cuh"
+#include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
+#include "engine/world.hpp"
+#include "systems/srd/grid_shift.hpp"
+#include "systems/srd/rotation.hpp"
+#include "systems/srd/srd_cells.hpp"
+#include "systems/srd/streaming.hpp"
+
+namespace granflow::srd {
+
+inline const SystemDescription srd_device_step_description{
+    "srd_device_step", "the SRD step on a CUDA device: streaming to thermostat, the columns resident there"};
+
+struct DeviceStepParameters {
+  double dt = 1.0;
+  double shear_rate = 0.0;
+  BodyForce<3> force;  // its first D entries
+  RotationParameters rotation;
+  bool grid_shift = true;
+  std::uint64_t seed = 0;
+  std::uint64_t reorder_interval = 20;
+  double thermostat = 0.0;
+  bool thermostat_removes_drift = true;
+};
+
+template <int D>
+class SrdDeviceStep : public System {
+ public:
+  SrdDeviceStep(const DeviceStepParameters& p, const SrdCells<D>& cells, std::size_t particles) : p_(p) {
+    cuda::SrdDeviceSetup s;
+    s.dimension = D;
+    for (int a = 0; a < D; ++a) {
+      s.cells[a] = cells.cells[a];
+      s.length[a] = cells.length[a];
+      s.origin[a] = cells.origin[a];
+      s.acceleration[a] = p.force.acceleration[a];
+    }
+    s.bounded = cells.bounded;
+    s.wall_count = static_cast<int>(cells.walls.size());
+    for (int w = 0; w < s.wall_count; ++w) s.walls[w] = cells.walls[static_cast<std::size_t>(w)];
+    s.slab_axis = p.force.slab_axis;
+    s.slab_from = p.force.from;
+    s.slab_to = p.force.to;
+    s.dt = p.dt;
+    s.particle_mass = cells.particle_mass;
+    s.ghost_fill = cells.ghost_fill;
+    s.seed = p.seed;
+    const CellRotation<D> base = rotation_base<D>(p.rotation);
+    s.cos_alpha = base.cos_alpha;
+    s.sin_alpha = base.sin_alpha;
+    s.rule = base.rule;
+    s.granular = granular_parameters(p.rotation);
+    s.shear = D >= 2 && p.shear_rate != 0.0;
+    s.record_moments = cells.record_moments && p.rotation.record_transfer;
+    s.record_energy = cells.record_energy;
+    s.thermostat = p.thermostat;
+    s.thermostat_removes_drift = p.thermostat_removes_drift;
+    s.reorder_interval = p.reorder_interval;
+    device_ = std::make_unique<cuda::SrdDevice>(s, particles);
+    spdlog::info("SRD on the CUDA device: {:.3g} GB of device memory for {} particles", device_->bytes() / 1e9, particles);
+  }
+
+  std::string name() const override { return "srd_device_step"; }
+  Access access() const override { return Access{}.writes<Position<D>, Velocity<D>, Clock, SrdCells<D>>(); }
+
+  void run(World& world) override {
+    auto& clock = world.resource<Clock>();
+    auto& cells = world.resource<SrdCells<D>>();
+    if (!uploaded_) {  // the initial state, or the one a checkpoint restored
+      device_->upload(world.component<Position<D>>().data()->data(), world.component<Velocity<D>>().data()->data());
+      uploaded_ = true;
+    }
+    cuda::SrdDeviceStep in;
+    in.start_time = clock.time;
+    ++clock.step;
+    clock.time = static_cast<double>(clock.step) * p_.dt;
+    in.step = static_cast<std::uint64_t>(clock.step);
+    in.end_time = clock.time;
+    SrdStreaming<D>::set_shear(cells, p_.shear_rate, clock.time);
+    in.shear = cells.shear;
+    SrdGridShift<D>::draw(cells.shift, p_.seed, in.step, p_.grid_shift);
+    for (int a = 0; a < D; ++a) in.shift[a] = cells.shift[a];
+    const cuda::SrdDeviceReport report = device_->step(in);
+    cells.wall_reflections += report.reflections;
+    cells.clamped_cells = report.clamped_cells;
+    cells.step_wall_work = report.wall_work;
+    cells.step_collision_energy = report.collision_energy;
+    cells.step_ghost_cell_energy = report.ghost_cell_energy;
+    if (report.clamped_cells > 0 && !warned_) {
+      warned_ = true;
+      spdlog::warn("step {}: eps_eff <= 0 in {} cells (clamped to 0: those cells lose all their thermal energy); "
+                   "lower srd.diameter, srd.time_step or the temperature to stay in the model's range",
+                   in.step, report.clamped_cells);
+    }
+    host_current_ = false;
+  }
+
+  void synchronise_host(World& world) override {
+    if (host_current_ || !uploaded_) return;
+    auto& cells = world.resource<SrdCells<D>>();
+    cells.image.resize(D >= 2 && cells.shear.velocity != 0.0 ? world.size() : 0);
+    if (cells.record_moments) cells.moment.resize(cells.cell_count());
+    cuda::SrdHostArrays host;
+    host.x = world.component<Position<D>>().data()->data();
+    host.v = world.component<Velocity<D>>().data()->data();
+    host.cell = cells.cell.data();
+    host.image = cells.image.empty() ? nullptr : cells.image.data();
+    host.count = cells.count.data();
+    host.ghosts = cells.ghosts.empty() ? nullptr : cells.ghosts.data();
+    host.mass = cells.mass.data();
+    host.velocity = cells.velocity.data()->data();
+    host.theta = cells.theta.data();
+    host.transfer = cells.record_moments && p_.rotation.record_transfer ? cells.transfer.data() : nullptr;
+    device_->download(host);
+    host_current_ = true;
+  }
+
+  std::vector<ProfileEntry> device_profile() const override { return device_->profile(); }
+
+ private:
+  DeviceStepParameters p_;
+  std::unique_ptr<cuda::SrdDevice> device_;
+  bool uploaded_ = false;
+  bool host_current_ = true;
+  bool warned_ = false;
+};
+
+}  // namespace granflow::srd
