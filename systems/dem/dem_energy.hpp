@@ -1,0 +1,103 @@
+#pragma once
+// The energy balance of the soft spheres: the work the moving walls did and
+// the energy the dampers took, integrated over the run (trapezoidal rule
+// over the instants the force pass books, second order in dt like the
+// integrator), against the kinetic, potential (-m g.x) and elastic energy:
+//   E(t) - E(0) = energy_injected - energy_dissipated + O(dt^2).
+
+#include <stdexcept>
+
+#include "components/mass.hpp"
+#include "components/position.hpp"
+#include "components/velocity.hpp"
+#include "engine/deterministic_sum.hpp"
+#include "engine/observable_store.hpp"
+#include "engine/state_map.hpp"
+#include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
+#include "engine/units.hpp"
+#include "engine/world.hpp"
+#include "systems/dem/contact_forces.hpp"
+
+namespace granflow::dem {
+
+inline const SystemDescription dem_energy_account_description{
+    "dem_energy_account", "integrates the walls' power and the dampers' loss over each step"};
+inline const SystemDescription observe_dem_energy_description{
+    "observe_dem_energy", "kinetic, potential and elastic energy, energy injected and dissipated"};
+
+struct DemLedger : Stateful {
+  static constexpr const char* key = "dem_ledger";
+  double injected = 0.0, dissipated = 0.0;
+  double last_wall_power = 0.0, last_dissipation_power = 0.0;
+  StateMap save_state() const override {
+    return {{"ledger", {injected, dissipated, last_wall_power, last_dissipation_power}}};
+  }
+  void restore_state(const StateMap& state) override {
+    const auto& s = state.at("ledger");
+    if (s.size() != 4) throw std::invalid_argument("checkpoint DEM energy ledger has the wrong size");
+    injected = s[0];
+    dissipated = s[1];
+    last_wall_power = s[2];
+    last_dissipation_power = s[3];
+  }
+};
+
+// Every step, after the forces.
+template <int D>
+class DemEnergyAccount : public System {
+ public:
+  explicit DemEnergyAccount(double dt) : dt_(dt) {}
+  std::string name() const override { return "dem_energy_account"; }
+  Access access() const override { return Access{}.reads<DemInteractions<D>>().template writes<DemLedger>(); }
+  void run(World& world) override {
+    const auto& in = world.resource<DemInteractions<D>>();
+    auto& ledger = world.resource<DemLedger>();
+    ledger.injected += 0.5 * dt_ * (ledger.last_wall_power + in.wall_power);
+    ledger.dissipated += 0.5 * dt_ * (ledger.last_dissipation_power + in.dissipation_power);
+    ledger.last_wall_power = in.wall_power;
+    ledger.last_dissipation_power = in.dissipation_power;
+  }
+
+ private:
+  double dt_;
+};
+
+template <int D>
+class DemEnergyObserver : public System {
+ public:
+  std::string name() const override { return "observe_dem_energy"; }
+  Access access() const override {
+    return Access{}
+        .reads<Position<D>, Velocity<D>, Mass, DemInteractions<D>, DemLedger>()
+        .writes_observable("kinetic_energy", unit::energy)
+        .writes_observable("potential_energy", unit::energy)
+        .writes_observable("elastic_energy", unit::energy)
+        .writes_observable("energy_injected", unit::energy)
+        .writes_observable("energy_dissipated", unit::energy)
+        .writes_observable("contact_count", unit::none)
+        .writes_observable("coordination_number", unit::none);
+  }
+  void run(World& world) override {
+    const auto& x = world.component<Position<D>>();
+    const auto& v = world.component<Velocity<D>>();
+    const auto& m = world.component<Mass>();
+    const auto& in = world.resource<DemInteractions<D>>();
+    const auto& ledger = world.resource<DemLedger>();
+    const std::size_t n = world.size();
+    auto& store = world.resource<ObservableStore>();
+    store.set("kinetic_energy", 0.5 * deterministic_sum(n, [&](std::size_t i) { return m[i] * v[i].squaredNorm(); }));
+    store.set("potential_energy", -deterministic_sum(n, [&](std::size_t i) {
+                double h = 0.0;
+                for (int a = 0; a < D; ++a) h += in.gravity[a] * x[i][a];
+                return m[i] * h;
+              }));
+    store.set("elastic_energy", in.elastic);
+    store.set("energy_injected", ledger.injected);
+    store.set("energy_dissipated", ledger.dissipated);
+    store.set("contact_count", static_cast<double>(in.contacts));
+    store.set("coordination_number", n ? 2.0 * static_cast<double>(in.contacts) / static_cast<double>(n) : 0.0);
+  }
+};
+
+}  // namespace granflow::dem

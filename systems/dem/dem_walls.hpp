@@ -1,0 +1,71 @@
+#pragma once
+// Walls of a soft-sphere box, as functions of one sphere and one wall: a
+// plane perpendicular to an axis that bounds the spheres from one side and
+// may move along its normal as rest + A sin(omega t), or a divider, a thin
+// fixed plate perpendicular to an axis that reaches from below up to a
+// height along another axis (spheres above it pass over; its top edge is a
+// line they can touch).
+
+#include <cmath>
+
+#include "engine/host_device.hpp"
+#include "systems/dem/contact_law.hpp"
+
+namespace granflow::dem {
+
+struct DemWall {
+  int axis = 2;
+  int side = -1;  // -1: spheres above it (a floor), +1: below it; ignored by a divider
+  double rest = 0.0;
+  double amplitude = 0.0, omega = 0.0;
+  ContactLaw law;
+  bool divider = false;
+  int height_axis = 2;  // divider: the axis its height is measured along
+  double top = 0.0;     // divider: where it ends along height_axis
+
+  GRANFLOW_HD double position(double t) const { return rest + amplitude * std::sin(omega * t); }
+  GRANFLOW_HD double velocity(double t) const { return amplitude * omega * std::cos(omega * t); }
+};
+
+// A sphere's contact with a wall: overlap, unit normal (pointing from the
+// wall to the sphere: the direction of the force on it) and the rate at
+// which the overlap grows.
+template <int D>
+struct WallContact {
+  double overlap = 0.0;
+  double normal[D] = {};
+  double rate = 0.0;
+};
+
+template <int D>
+GRANFLOW_HD inline WallContact<D> wall_contact(const DemWall& w, const double* x, const double* v, double radius,
+                                               double t) {
+  WallContact<D> c;
+  if (!w.divider) {
+    const double at = w.position(t);
+    const double sign = w.side < 0 ? 1.0 : -1.0;
+    c.overlap = radius - sign * (x[w.axis] - at);
+    c.normal[w.axis] = sign;
+    c.rate = -sign * (v[w.axis] - w.velocity(t));
+    return c;
+  }
+  const double across = x[w.axis] - w.rest;
+  if (x[w.height_axis] <= w.top) {
+    const double sign = across >= 0.0 ? 1.0 : -1.0;
+    c.overlap = radius - std::abs(across);
+    c.normal[w.axis] = sign;
+    c.rate = -sign * v[w.axis];
+    return c;
+  }
+  const double up = x[w.height_axis] - w.top;
+  const double distance = std::sqrt(across * across + up * up);
+  c.overlap = radius - distance;
+  if (distance > 0.0) {
+    c.normal[w.axis] = across / distance;
+    c.normal[w.height_axis] = up / distance;
+  }
+  c.rate = -(v[w.axis] * c.normal[w.axis] + v[w.height_axis] * c.normal[w.height_axis]);
+  return c;
+}
+
+}  // namespace granflow::dem
