@@ -1,0 +1,104 @@
+#pragma once
+// Two compartments split by a divider at x = position along `axis`: the
+// asymmetry a = (N_L - N_R) / N of the spheres on each side, and the
+// spheres that crossed from left to right and back. A sampler looks every
+// step (a crossing takes many steps, so none is missed) and the observer
+// writes the crossings since its last output.
+
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+#include "components/position.hpp"
+#include "engine/observable_store.hpp"
+#include "engine/state_map.hpp"
+#include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
+#include "engine/units.hpp"
+#include "engine/world.hpp"
+
+namespace granflow::dem {
+
+inline const SystemDescription sample_compartments_description{
+    "sample_compartments", "which compartment every sphere is in, and the crossings since the last step"};
+inline const SystemDescription observe_compartments_description{
+    "observe_compartments", "asymmetry (N_L - N_R) / N and the flux through the opening in each direction"};
+
+class CompartmentCounts : public Stateful {
+ public:
+  static constexpr const char* key = "dem_compartments";
+  std::vector<double> left;  // per sphere: 1 on the left, 0 on the right (as doubles for the checkpoint)
+  double left_to_right = 0.0, right_to_left = 0.0;  // since the last output
+
+  StateMap save_state() const override { return {{"left", left}, {"flux", {left_to_right, right_to_left}}}; }
+  void restore_state(const StateMap& state) override {
+    if (state.at("flux").size() != 2) throw std::invalid_argument("checkpoint compartment counts have the wrong size");
+    left = state.at("left");
+    left_to_right = state.at("flux")[0];
+    right_to_left = state.at("flux")[1];
+  }
+};
+
+template <int D>
+class CompartmentSampler : public System {
+ public:
+  CompartmentSampler(int axis, double position, std::shared_ptr<CompartmentCounts> counts)
+      : axis_(axis), position_(position), counts_(std::move(counts)) {}
+  std::string name() const override { return "sample_compartments"; }
+  Access access() const override { return Access{}.reads<Position<D>>().template writes<CompartmentCounts>(); }
+  void run(World& world) override {
+    const auto& x = world.component<Position<D>>();
+    auto& c = *counts_;
+    if (c.left.size() != world.size()) {
+      c.left.assign(world.size(), 0.0);
+      for (std::size_t i = 0; i < world.size(); ++i) c.left[i] = x[i][axis_] < position_ ? 1.0 : 0.0;
+      return;
+    }
+    for (std::size_t i = 0; i < world.size(); ++i) {
+      const double now = x[i][axis_] < position_ ? 1.0 : 0.0;
+      if (now < c.left[i]) c.left_to_right += 1.0;
+      if (now > c.left[i]) c.right_to_left += 1.0;
+      c.left[i] = now;
+    }
+  }
+
+ private:
+  int axis_;
+  double position_;
+  std::shared_ptr<CompartmentCounts> counts_;
+};
+
+template <int D>
+class CompartmentObserver : public System {
+ public:
+  CompartmentObserver(int axis, double position, std::shared_ptr<CompartmentCounts> counts)
+      : axis_(axis), position_(position), counts_(std::move(counts)) {}
+  std::string name() const override { return "observe_compartments"; }
+  Access access() const override {
+    return Access{}
+        .reads<Position<D>>()
+        .template writes<CompartmentCounts>()
+        .writes_observable("asymmetry", unit::none)
+        .writes_observable("flux_left_to_right", unit::none)
+        .writes_observable("flux_right_to_left", unit::none);
+  }
+  void run(World& world) override {
+    const auto& x = world.component<Position<D>>();
+    double left = 0.0;
+    for (std::size_t i = 0; i < world.size(); ++i) left += x[i][axis_] < position_ ? 1.0 : 0.0;
+    const auto n = static_cast<double>(world.size());
+    auto& store = world.resource<ObservableStore>();
+    store.set("asymmetry", n > 0 ? (2.0 * left - n) / n : 0.0);
+    store.set("flux_left_to_right", counts_->left_to_right);
+    store.set("flux_right_to_left", counts_->right_to_left);
+    counts_->left_to_right = 0.0;
+    counts_->right_to_left = 0.0;
+  }
+
+ private:
+  int axis_;
+  double position_;
+  std::shared_ptr<CompartmentCounts> counts_;
+};
+
+}  // namespace granflow::dem
