@@ -524,6 +524,44 @@ def plot_gsrd_shaken(files, output):
     save(fig, output)
 
 
+def plot_shaken_bed(files, output):
+    f = files[0]
+    t, a = series(f, "asymmetry")
+    _, lr = series(f, "flux_left_to_right")
+    _, rl = series(f, "flux_right_to_left")
+    _, kinetic = series(f, "kinetic_energy")
+    _, potential = series(f, "potential_energy")
+    _, elastic = series(f, "elastic_energy")
+    _, injected = series(f, "energy_injected")
+    _, dissipated = series(f, "energy_dissipated")
+    n = int(f["/parameters/system"].attrs["count"])
+    fig, (left, middle, right) = plt.subplots(1, 3, figsize=(16, 4.4))
+    left.plot(t, a, "-", lw=1)
+    left.axhline(0.0, color="k", lw=0.8)
+    left.fill_between(t, -1 / np.sqrt(n), 1 / np.sqrt(n), color="0.85", label="1/sqrt(N): equal sharing's spread")
+    left.set_ylim(-1.05, 1.05)
+    left.set_xlabel("t [T]")
+    left.set_ylabel("asymmetry (N_L - N_R) / N")
+    left.legend(fontsize=8)
+    middle.step(t, lr, where="post", label="left to right")
+    middle.step(t, rl, where="post", label="right to left")
+    middle.set_xlabel("t [T]")
+    middle.set_ylabel("crossings per output interval")
+    middle.legend(fontsize=8)
+    total = kinetic + potential + elastic
+    right.plot(t, total - total[0], label="change of kinetic + potential + elastic energy")
+    right.plot(t, injected - dissipated, "k:", label="injected by the floor - dissipated")
+    right.plot(t, injected, label="injected")
+    right.plot(t, dissipated, label="dissipated")
+    right.set_xlabel("t [T]")
+    right.set_ylabel("energy [M L2 T-2]")
+    right.legend(fontsize=7)
+    amplitude = float(f["/parameters/shaking"].attrs["amplitude"])
+    frequency = float(f["/parameters/shaking"].attrs["frequency"])
+    fig.suptitle(f"shaken bed, N = {n}, A = {amplitude:g}, f = {frequency:g}")
+    save(fig, output)
+
+
 PLOTTERS = {"haff_cooling": lambda files, output: plot_haff(files[0], output),
             "speed_distribution": plot_speed_distribution,
             "mixture": plot_mixture,
@@ -535,6 +573,7 @@ PLOTTERS = {"haff_cooling": lambda files, output: plot_haff(files[0], output),
             "srd_viscosity": plot_srd_viscosity,
             "srd_poiseuille": plot_srd_poiseuille,
             "gsrd_shaken": plot_gsrd_shaken,
+            "shaken_bed": plot_shaken_bed,
             "gsrd_cooling": plot_gsrd_cooling}
 
 
