@@ -188,6 +188,10 @@ void build(Run& run) {
   run.step<dem::DemKick<D>>(dt);
   run.step<dem::DemEnergyAccount<D>>(dt);
   const auto counts = std::make_shared<dem::CompartmentCounts>();
+  counts->average_from = c.real("output.average_after");
+  if (counts->average_from >= c.real("run.t_stop"))
+    throw ConfigError(fmt::format("output.average_after = {} leaves nothing to average before run.t_stop = {}",
+                                  counts->average_from, c.real("run.t_stop")));
   run.keep("compartments", *counts);
   run.observe<dem::CompartmentSampler<D>>(std::make_shared<EverySteps>(1), 0, divider_x, counts);
   const double t_stop = c.real("run.t_stop");
@@ -197,6 +201,14 @@ void build(Run& run) {
   run.stop_at_time(t_stop);
   run.finished_reason("reached run.t_stop");
   run.rate("particle-steps/s", [&run, n] { return static_cast<double>(n) * static_cast<double>(run.clock().step); });
+  run.at_finish([counts](H5mdFile& file, const RunOutcome&) {
+    const double samples = std::max(counts->samples, 1.0);
+    file.write_attribute("/observables", "asymmetry_time_mean", counts->sum / samples);
+    file.write_attribute("/observables", "asymmetry_abs_mean", counts->abs_sum / samples);
+    file.write_attribute("/observables", "crossings", counts->crossings);
+    spdlog::info("time average after the warm-up ({:.0f} outputs): a = {:.3f}, |a| = {:.3f}; {:.0f} crossings",
+                 counts->samples, counts->sum / samples, counts->abs_sum / samples, counts->crossings);
+  });
   run.at_finish([&run](H5mdFile& file, const RunOutcome&) {
     const auto& nl = run.world().resource<dem::NeighbourList<D>>();
     file.write_attribute("/observables", "neighbour_list_builds", static_cast<double>(nl.builds));
@@ -212,25 +224,27 @@ GRANFLOW_REGISTER_SCENARIO(shaken_bed, Scenario{
   .default_output = "shaken_bed.h5md",
   .keys = [](ConfigSchema& s) {
     constexpr double inf = std::numeric_limits<double>::infinity();
-    s.integer("system.count", 100, 1, 100000, "number of spheres")
+    s.integer("system.count", 300, 1, 100000, "number of spheres")
         .real_array("system.box", {20.0, 4.0, 40.0}, 0.0, 1e9, 3, 3, "box edge lengths along x, y, z (walls on every side)")
         .real("particle.radius", 0.5, 0.0, inf, "sphere radius", true)
         .real("particle.mass", 1.0, 0.0, inf, "sphere mass", true)
         .choice("contact.model", "lsd", {"lsd", "hertz"}, "normal contact force: linear spring-dashpot or Hertz with "
                 "Kuwabara-Kono damping")
-        .real("contact.stiffness", 1e5, 0.0, inf, "spring constant k (Hertz: of k delta^{3/2})", true)
+        .real("contact.stiffness", 2e4, 0.0, inf, "spring constant k (Hertz: of k delta^{3/2})", true)
         .real("contact.restitution", 0.7, 0.0, 1.0, "restitution e of the linear spring-dashpot (sets its damping)")
         .real("contact.hertz_damping", 0.0, 0.0, inf, "Hertz: the Kuwabara-Kono damping time A")
         .real("contact.friction", 0.0, 0.0, inf, "Coulomb friction mu (0: frictionless; only 0 is built)")
         .real("shaking.amplitude", 0.5, 0.0, inf, "amplitude A of the floor's motion A sin(2 pi f t)")
         .real("shaking.frequency", 2.5, 0.0, inf, "frequency f of the floor's motion")
         .real("divider.position", 0.0, 0.0, inf, "x of the divider (0: the middle of the box)")
-        .real("divider.height", 10.0, 0.0, inf, "the divider reaches from the floor to this height (0: no divider)")
+        .real("divider.height", 8.0, 0.0, inf, "the divider reaches from the floor to this height (0: no divider)")
         .real_array("gravity.acceleration", {0.0, 0.0, -1.0}, -1e300, 1e300, 3, 3, "gravity, one entry per axis")
         .real("neighbour.skin", 0.4, 0.0, inf, "Verlet skin, in sphere radii", true)
-        .real("run.t_stop", 100.0, 0.0, inf, "simulated time to run", true)
+        .real("run.t_stop", 300.0, 0.0, inf, "simulated time to run", true)
         .real("run.dt", 0.0, 0.0, inf, "time step (0: t_c / 50 of a sphere pair)")
-        .real("output.interval", 1.0, 0.0, inf, "time between outputs", true);
+        .real("output.interval", 1.0, 0.0, inf, "time between outputs", true)
+        .real("output.average_after", 100.0, 0.0, inf, "time after which a and |a| are averaged (the attributes "
+              "asymmetry_time_mean, asymmetry_abs_mean)");
     ConfigSchema wall;
     wall.choice("axis", "z", {"x", "y", "z"}, "the axis the wall is perpendicular to")
         .real("position", 0.0, 0.0, inf, "its position along that axis (below the middle: spheres above it)")
@@ -246,7 +260,8 @@ GRANFLOW_REGISTER_SCENARIO(shaken_bed, Scenario{
         .unit("contact.friction", unit::none).unit("shaking.amplitude", unit::length).unit("shaking.frequency", unit::rate)
         .unit("divider.position", unit::length).unit("divider.height", unit::length)
         .unit("gravity.acceleration", unit::acceleration).unit("neighbour.skin", unit::none).unit("run.t_stop", unit::time)
-        .unit("run.dt", unit::time).unit("output.interval", unit::time);
+        .unit("run.dt", unit::time).unit("output.interval", unit::time)
+        .unit("output.average_after", unit::time);
   },
   .build = build,
 })

@@ -3,12 +3,15 @@
 // asymmetry a = (N_L - N_R) / N of the spheres on each side, and the
 // spheres that crossed from left to right and back. A sampler looks every
 // step (a crossing takes many steps, so none is missed) and the observer
-// writes the crossings since its last output.
+// writes the crossings since its last output, and keeps the time averages
+// of a and |a| over the outputs after a warm-up (the sweep's summary).
 
+#include <cmath>
 #include <memory>
 #include <stdexcept>
 #include <vector>
 
+#include "components/clock.hpp"
 #include "components/position.hpp"
 #include "engine/observable_store.hpp"
 #include "engine/state_map.hpp"
@@ -29,13 +32,24 @@ class CompartmentCounts : public Stateful {
   static constexpr const char* key = "dem_compartments";
   std::vector<double> left;  // per sphere: 1 on the left, 0 on the right (as doubles for the checkpoint)
   double left_to_right = 0.0, right_to_left = 0.0;  // since the last output
+  // Over the outputs from `average_from` on: sums of a and |a|, their count,
+  // and all crossings.
+  double average_from = 0.0;
+  double sum = 0.0, abs_sum = 0.0, samples = 0.0, crossings = 0.0;
 
-  StateMap save_state() const override { return {{"left", left}, {"flux", {left_to_right, right_to_left}}}; }
+  StateMap save_state() const override {
+    return {{"left", left}, {"flux", {left_to_right, right_to_left}}, {"averages", {sum, abs_sum, samples, crossings}}};
+  }
   void restore_state(const StateMap& state) override {
-    if (state.at("flux").size() != 2) throw std::invalid_argument("checkpoint compartment counts have the wrong size");
+    if (state.at("flux").size() != 2 || state.at("averages").size() != 4)
+      throw std::invalid_argument("checkpoint compartment counts have the wrong size");
     left = state.at("left");
     left_to_right = state.at("flux")[0];
     right_to_left = state.at("flux")[1];
+    sum = state.at("averages")[0];
+    abs_sum = state.at("averages")[1];
+    samples = state.at("averages")[2];
+    crossings = state.at("averages")[3];
   }
 };
 
@@ -76,7 +90,7 @@ class CompartmentObserver : public System {
   std::string name() const override { return "observe_compartments"; }
   Access access() const override {
     return Access{}
-        .reads<Position<D>>()
+        .reads<Position<D>, Clock>()
         .template writes<CompartmentCounts>()
         .writes_observable("asymmetry", unit::none)
         .writes_observable("flux_left_to_right", unit::none)
@@ -87,8 +101,16 @@ class CompartmentObserver : public System {
     double left = 0.0;
     for (std::size_t i = 0; i < world.size(); ++i) left += x[i][axis_] < position_ ? 1.0 : 0.0;
     const auto n = static_cast<double>(world.size());
+    const double a = n > 0 ? (2.0 * left - n) / n : 0.0;
+    auto& c = *counts_;
+    c.crossings += c.left_to_right + c.right_to_left;
+    if (world.resource<Clock>().time >= c.average_from) {
+      c.sum += a;
+      c.abs_sum += std::abs(a);
+      c.samples += 1.0;
+    }
     auto& store = world.resource<ObservableStore>();
-    store.set("asymmetry", n > 0 ? (2.0 * left - n) / n : 0.0);
+    store.set("asymmetry", a);
     store.set("flux_left_to_right", counts_->left_to_right);
     store.set("flux_right_to_left", counts_->right_to_left);
     counts_->left_to_right = 0.0;

@@ -45,6 +45,7 @@ struct DemInteractions {
   double wall_power = 0.0;        // given by the walls' motion
   std::uint64_t contacts = 0;     // sphere-sphere pairs in contact
   std::uint64_t wall_contacts = 0;
+  std::vector<double> wall_force; // per wall: the normal force the spheres press it with
 };
 
 template <int D>
@@ -70,9 +71,11 @@ class DemContactForces : public System {
     const std::size_t n = world.size();
     constexpr std::size_t chunk = 1024;
     const std::size_t chunks = (n + chunk - 1) / chunk;
-    partial_.assign(5 * chunks, 0.0);
+    const std::size_t walls = in.walls.size(), width = 5 + walls;
+    partial_.assign(width * chunks, 0.0);
     tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
       double elastic = 0.0, dissipated = 0.0, power = 0.0, contacts = 0.0, wall_contacts = 0.0;
+      double* pressing = &partial_[width * k + 5];
       const std::size_t end = std::min(n, (k + 1) * chunk);
       for (std::size_t i = k * chunk; i < end; ++i) {
         Vec<D> f;
@@ -97,7 +100,8 @@ class DemContactForces : public System {
           dissipated += 0.5 * r.dissipated;
           contacts += 0.5;
         }
-        for (const DemWall& w : in.walls) {
+        for (std::size_t wi = 0; wi < walls; ++wi) {
+          const DemWall& w = in.walls[wi];
           const WallContact<D> c = wall_contact<D>(w, x[i].data(), v[i].data(), radius[i], t);
           if (c.overlap <= 0.0) continue;
           const ContactLaw::Result r = w.law.normal(c.overlap, c.rate, mass[i]);
@@ -105,11 +109,12 @@ class DemContactForces : public System {
           elastic += r.elastic;
           dissipated += r.dissipated;
           if (!w.divider) power += r.force * c.normal[w.axis] * w.velocity(t);
+          pressing[wi] += r.force;
           wall_contacts += 1.0;
         }
         force[i] = f;
       }
-      double* out = &partial_[5 * k];
+      double* out = &partial_[width * k];
       out[0] = elastic;
       out[1] = dissipated;
       out[2] = power;
@@ -117,8 +122,11 @@ class DemContactForces : public System {
       out[4] = wall_contacts;
     });
     double sums[5] = {0, 0, 0, 0, 0};
-    for (std::size_t k = 0; k < chunks; ++k)
-      for (int s = 0; s < 5; ++s) sums[s] += partial_[5 * k + s];
+    in.wall_force.assign(walls, 0.0);
+    for (std::size_t k = 0; k < chunks; ++k) {
+      for (int s = 0; s < 5; ++s) sums[s] += partial_[width * k + static_cast<std::size_t>(s)];
+      for (std::size_t wi = 0; wi < walls; ++wi) in.wall_force[wi] += partial_[width * k + 5 + wi];
+    }
     in.elastic = sums[0];
     in.dissipation_power = sums[1];
     in.wall_power = sums[2];

@@ -28,6 +28,7 @@ std::string scratch(const std::string& name) {
 TEST(ShakenBed, FluxAccountsForTheAsymmetryAndTheEnergyBalances) {
   Config config(scenario_schema("shaken_bed"));
   config.set("run.t_stop", 20.0);
+  config.set("output.average_after", 10.0);
   RunOptions options;
   options.output_path = scratch("shaken_bed");
   options.progress = false;
@@ -37,7 +38,7 @@ TEST(ShakenBed, FluxAccountsForTheAsymmetryAndTheEnergyBalances) {
   const auto a = file.doubles("/observables/asymmetry/value").values;
   const auto lr = file.doubles("/observables/flux_left_to_right/value").values;
   const auto rl = file.doubles("/observables/flux_right_to_left/value").values;
-  const double n = 100;
+  const double n = 300;
   double net = 0.0, crossings = 0.0;
   for (std::size_t k = 0; k < a.size(); ++k) {
     net += rl[k] - lr[k];

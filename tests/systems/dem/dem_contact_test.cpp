@@ -7,8 +7,8 @@
 // a gas of spheres in a walled box keeps its energy within a bound over
 // 1e5 steps, and for compressed contacts that never open the bound falls
 // as dt^2 (halving dt quarters it, within 20 %). Neighbour lists never miss
-// a contact an all-pairs search finds; the same run on 1 and 2 threads is
-// identical.
+// a contact an all-pairs search finds; a settled bed stays at rest and the
+// floor carries its weight; the same run on 1 and 2 threads is identical.
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -227,6 +227,56 @@ TEST(DemContact, NeighbourListsFindEveryContactAllPairsFinds) {
       }
   }
   EXPECT_GT(s.world.resource<NeighbourList<3>>().builds, 5u);
+}
+
+// A bed poured onto a floor (periodic sideways) comes to rest and stays at
+// rest: over 1e5 steps after settling its kinetic energy stays below 1e-8
+// of N m g d and ends below where it started (dying out, no creep), and the
+// floor carries its weight: the mean normal force on it equals N m g within
+// 1 %.
+TEST(DemContact, SettledBedRestsAndTheFloorCarriesItsWeight) {
+  ContactLaw law;
+  law.stiffness = 2e4;
+  law.damping = ContactLaw::lsd_damping_factor(0.3);
+  const double dt = law.contact_time(0.5) / 50;
+  Spheres s(400, {8, 8, 40}, {true, true, false}, dt);
+  for (std::size_t i = 0; i < 400; ++i) {
+    Philox random(10, 11, 12, i);
+    const std::size_t layer = i / 49, k = i % 49;
+    // A loose lattice, jittered so that the bed does not crystallise in columns.
+    s.set(i, {0.6 + 1.1 * (k % 7) + 0.05 * random.uniform(), 0.6 + 1.1 * (k / 7) + 0.05 * random.uniform(), 1.0 + 1.2 * layer},
+          {0.1 * random.normal(), 0.1 * random.normal(), 0.1 * random.normal()}, 0.5, 1.0);
+  }
+  // No net sideways drift: a frictionless floor could never stop it.
+  Vec<3> mean = Vec<3>::Zero();
+  for (std::size_t i = 0; i < 400; ++i) mean += s.v(i) / 400.0;
+  for (std::size_t i = 0; i < 400; ++i) s.v(i) -= mean;
+  s.interactions().law = law;
+  s.interactions().gravity = {0, 0, -1};
+  DemWall floor;
+  floor.law = law;
+  s.interactions().walls.push_back(floor);
+  s.start();
+  const auto kinetic = [&] {
+    double e = 0.0;
+    for (std::size_t i = 0; i < 400; ++i) e += 0.5 * s.v(i).squaredNorm();
+    return e;
+  };
+  for (int k = 0; k < static_cast<int>(80.0 / dt); ++k) s.advance();  // 80 time units to settle
+  double worst = 0.0, floor_force = 0.0;
+  const double first = kinetic();
+  constexpr int steps = 100000;
+  for (int k = 0; k < steps; ++k) {
+    s.advance();
+    worst = std::max(worst, kinetic());
+    floor_force += s.interactions().wall_force[0];
+  }
+  floor_force /= steps;
+  std::printf("settled bed: kinetic energy %.3g at the start of the window, %.3g at its end, %.3g at most "
+              "(N m g d = 400); mean floor force %.6g (weight 400)\n", first, kinetic(), worst, floor_force);
+  EXPECT_LT(worst, 1e-8 * 400);
+  EXPECT_LE(kinetic(), first);  // dying out, not creeping
+  EXPECT_NEAR(floor_force, 400.0, 4.0);
 }
 
 TEST(DemContact, SameResultOnOneAndTwoThreads) {
