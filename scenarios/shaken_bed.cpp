@@ -206,8 +206,13 @@ void build(Run& run) {
     file.write_attribute("/observables", "asymmetry_time_mean", counts->sum / samples);
     file.write_attribute("/observables", "asymmetry_abs_mean", counts->abs_sum / samples);
     file.write_attribute("/observables", "crossings", counts->crossings);
-    spdlog::info("time average after the warm-up ({:.0f} outputs): a = {:.3f}, |a| = {:.3f}; {:.0f} crossings",
-                 counts->samples, counts->sum / samples, counts->abs_sum / samples, counts->crossings);
+    const auto eggers = dem::fit_eggers_flux(counts->flux_samples);
+    file.write_attribute("/observables", "eggers_flux_A", eggers[0]);
+    file.write_attribute("/observables", "eggers_flux_B", eggers[1]);
+    spdlog::info("time average after the warm-up ({:.0f} outputs): a = {:.3f}, |a| = {:.3f}; {:.0f} crossings; Eggers "
+                 "flux fit A = {:.3g}, B = {:.3g} (equal sharing is stable for B < 4)",
+                 counts->samples, counts->sum / samples, counts->abs_sum / samples, counts->crossings, eggers[0],
+                 eggers[1]);
   });
   run.at_finish([&run](H5mdFile& file, const RunOutcome&) {
     const auto& nl = run.world().resource<dem::NeighbourList<D>>();

@@ -6,6 +6,8 @@
 // writes the crossings since its last output, and keeps the time averages
 // of a and |a| over the outputs after a warm-up (the sweep's summary).
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -27,6 +29,40 @@ inline const SystemDescription sample_compartments_description{
 inline const SystemDescription observe_compartments_description{
     "observe_compartments", "asymmetry (N_L - N_R) / N and the flux through the opening in each direction"};
 
+// Eggers' flux model F(n) = A n^2 exp(-B n^2) (Eggers 1999) fitted to the
+// crossings out of a compartment per interval against its fraction n at the
+// interval's start: the samples binned in n (`bins` over [0, 1]), each bin's
+// mean flux, then log(F / n^2) = log A - B n^2 by least squares over the
+// bins with flux, weighted by their samples. The equal sharing n = 1/2 is
+// stable for B < 4. Returns {A, B}, or {0, 0} with fewer than three bins.
+inline std::array<double, 2> fit_eggers_flux(const std::vector<double>& samples, int bins = 20) {
+  std::vector<double> flux(static_cast<std::size_t>(bins), 0.0), count(static_cast<std::size_t>(bins), 0.0),
+      fraction(static_cast<std::size_t>(bins), 0.0);
+  for (std::size_t k = 0; k + 1 < samples.size(); k += 2) {
+    const auto b = static_cast<std::size_t>(std::min(bins - 1, static_cast<int>(samples[k] * bins)));
+    fraction[b] += samples[k];
+    flux[b] += samples[k + 1];
+    count[b] += 1.0;
+  }
+  double sw = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  int used = 0;
+  for (std::size_t b = 0; b < flux.size(); ++b) {
+    if (count[b] == 0 || flux[b] == 0) continue;
+    const double n = fraction[b] / count[b], f = flux[b] / count[b];
+    const double x = n * n, y = std::log(f / x), w = count[b];
+    sw += w;
+    sx += w * x;
+    sy += w * y;
+    sxx += w * x * x;
+    sxy += w * x * y;
+    ++used;
+  }
+  const double det = sw * sxx - sx * sx;
+  if (used < 3 || det <= 0) return {0.0, 0.0};
+  const double slope = (sw * sxy - sx * sy) / det, intercept = (sy - slope * sx) / sw;
+  return {std::exp(intercept), -slope};
+}
+
 class CompartmentCounts : public Stateful {
  public:
   static constexpr const char* key = "dem_compartments";
@@ -36,12 +72,20 @@ class CompartmentCounts : public Stateful {
   // and all crossings.
   double average_from = 0.0;
   double sum = 0.0, abs_sum = 0.0, samples = 0.0, crossings = 0.0;
+  // Per output interval after average_from, for each compartment: the
+  // fraction of the spheres in it at the interval's start and how many left
+  // it during the interval (Eggers' flux function F(n)).
+  std::vector<double> flux_samples;  // (n, crossings out) pairs
+  double last_left_fraction = -1.0;
 
   StateMap save_state() const override {
-    return {{"left", left}, {"flux", {left_to_right, right_to_left}}, {"averages", {sum, abs_sum, samples, crossings}}};
+    return {{"left", left},
+            {"flux", {left_to_right, right_to_left}},
+            {"averages", {sum, abs_sum, samples, crossings, last_left_fraction}},
+            {"flux_samples", flux_samples}};
   }
   void restore_state(const StateMap& state) override {
-    if (state.at("flux").size() != 2 || state.at("averages").size() != 4)
+    if (state.at("flux").size() != 2 || state.at("averages").size() != 5)
       throw std::invalid_argument("checkpoint compartment counts have the wrong size");
     left = state.at("left");
     left_to_right = state.at("flux")[0];
@@ -50,6 +94,8 @@ class CompartmentCounts : public Stateful {
     abs_sum = state.at("averages")[1];
     samples = state.at("averages")[2];
     crossings = state.at("averages")[3];
+    last_left_fraction = state.at("averages")[4];
+    flux_samples = state.at("flux_samples");
   }
 };
 
@@ -108,6 +154,11 @@ class CompartmentObserver : public System {
       c.sum += a;
       c.abs_sum += std::abs(a);
       c.samples += 1.0;
+      if (c.last_left_fraction >= 0.0) {
+        c.flux_samples.insert(c.flux_samples.end(), {c.last_left_fraction, c.left_to_right});
+        c.flux_samples.insert(c.flux_samples.end(), {1.0 - c.last_left_fraction, c.right_to_left});
+      }
+      c.last_left_fraction = n > 0 ? left / n : 0.0;
     }
     auto& store = world.resource<ObservableStore>();
     store.set("asymmetry", a);
