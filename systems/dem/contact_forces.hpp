@@ -73,6 +73,14 @@ class DemContactForces : public System {
     const std::size_t chunks = (n + chunk - 1) / chunk;
     const std::size_t walls = in.walls.size(), width = 5 + walls;
     partial_.assign(width * chunks, 0.0);
+    // With one sphere mass (the usual case) every pair has the same reduced
+    // mass and spring-dashpot constant: computed once, not per contact.
+    if (!mass_checked_) {
+      uniform_mass_ = n > 0 && std::all_of(mass.values.begin(), mass.values.end(), [&](double m) { return m == mass[0]; });
+      mass_checked_ = true;
+    }
+    const bool uniform = uniform_mass_ && in.law.model == ContactModel::lsd;
+    const double uniform_gamma = uniform ? in.law.gamma(0.5 * mass[0]) : 0.0;
     tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
       double elastic = 0.0, dissipated = 0.0, power = 0.0, contacts = 0.0, wall_contacts = 0.0;
       double* pressing = &partial_[width * k + 5];
@@ -87,14 +95,15 @@ class DemContactForces : public System {
           for (int a = 0; a < D; ++a) d2 += d[a] * d[a];
           const double reach = radius[i] + radius[j];
           if (d2 >= reach * reach) continue;
-          const double distance = std::sqrt(d2);
+          const double distance = std::sqrt(d2), inverse = 1.0 / distance;
           double normal[D], rate = 0.0;
           for (int a = 0; a < D; ++a) {
-            normal[a] = d[a] / distance;
+            normal[a] = d[a] * inverse;
             rate -= (v[i][a] - v[j][a]) * normal[a];
           }
-          const double m_eff = mass[i] * mass[j] / (mass[i] + mass[j]);
-          const ContactLaw::Result r = in.law.normal(reach - distance, rate, m_eff);
+          const ContactLaw::Result r =
+              uniform ? in.law.lsd(reach - distance, rate, uniform_gamma)
+                      : in.law.normal(reach - distance, rate, mass[i] * mass[j] / (mass[i] + mass[j]));
           for (int a = 0; a < D; ++a) f[a] += r.force * normal[a];
           elastic += 0.5 * r.elastic;
           dissipated += 0.5 * r.dissipated;
@@ -136,6 +145,7 @@ class DemContactForces : public System {
 
  private:
   std::vector<double> partial_;
+  bool mass_checked_ = false, uniform_mass_ = false;
 };
 
 }  // namespace granflow::dem

@@ -50,10 +50,15 @@ struct ContactLaw {
     double dissipated; // power the damping takes, >= 0
   };
   GRANFLOW_HD Result normal(double delta, double rate, double m_eff) const {
-    if (model == ContactModel::lsd) {
-      const double g = gamma(m_eff);
-      return {stiffness * delta + g * rate, 0.5 * stiffness * delta * delta, g * rate * rate};
-    }
+    if (model == ContactModel::lsd) return lsd(delta, rate, gamma(m_eff));
+    return hertz(delta, rate);
+  }
+  // The spring-dashpot with its dashpot constant g = gamma(m_eff) given
+  // (computed once where every contact has the same reduced mass).
+  GRANFLOW_HD Result lsd(double delta, double rate, double g) const {
+    return {stiffness * delta + g * rate, 0.5 * stiffness * delta * delta, g * rate * rate};
+  }
+  GRANFLOW_HD Result hertz(double delta, double rate) const {
     const double root = std::sqrt(delta);
     const double g = 1.5 * damping * stiffness * root;
     return {stiffness * delta * root + g * rate, 0.4 * stiffness * delta * delta * root, g * rate * rate};

@@ -10,6 +10,7 @@
 // so forces are summed in the same order on any thread count.
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <array>
@@ -73,18 +74,24 @@ class DemNeighbourList : public System {
     if (!nl.built() || moved_too_far(world, nl)) build(world, nl);
   }
 
-  // Whether some sphere moved more than half the skin since the last build.
+  // Whether some sphere moved more than half the skin since the last build
+  // (a maximum: the same on any split over threads).
   static bool moved_too_far(const World& world, const NeighbourList<D>& nl) {
     const auto& x = world.component<Position<D>>();
     const auto& box = world.resource<DemBox<D>>();
-    const double limit = 0.25 * nl.skin * nl.skin;
-    for (std::size_t i = 0; i < world.size(); ++i) {
-      double d[D], d2 = 0.0;
-      box.separation(x[i], nl.reference[i], d);
-      for (int k = 0; k < D; ++k) d2 += d[k] * d[k];
-      if (d2 > limit) return true;
-    }
-    return false;
+    const double largest = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, world.size(), 4096), 0.0,
+        [&](const auto& range, double worst) {
+          for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            double d[D], d2 = 0.0;
+            box.separation(x[i], nl.reference[i], d);
+            for (int k = 0; k < D; ++k) d2 += d[k] * d[k];
+            worst = std::max(worst, d2);
+          }
+          return worst;
+        },
+        [](double a, double b) { return std::max(a, b); });
+    return largest > 0.25 * nl.skin * nl.skin;
   }
 
   static void build(const World& world, NeighbourList<D>& nl) {
@@ -155,17 +162,26 @@ class DemNeighbourList : public System {
         if (k == D) break;
       }
     };
+    // One pass: each fixed chunk of spheres lists its neighbours in its own
+    // buffer; the chunks are then joined in order (the same list on any
+    // thread count).
+    constexpr std::size_t chunk = 256;
+    const std::size_t chunks = (n + chunk - 1) / chunk;
+    std::vector<std::vector<std::uint32_t>> pieces(chunks);
     nl.offsets.assign(n + 1, 0);
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-      std::uint32_t count = 0;
-      visit(i, [&](std::uint32_t) { ++count; });
-      nl.offsets[i + 1] = count;
+    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t q) {
+      auto& piece = pieces[q];
+      const std::size_t end = std::min(n, (q + 1) * chunk);
+      for (std::size_t i = q * chunk; i < end; ++i) {
+        const std::size_t before = piece.size();
+        visit(i, [&](std::uint32_t j) { piece.push_back(j); });
+        nl.offsets[i + 1] = static_cast<std::uint32_t>(piece.size() - before);
+      }
     });
     for (std::size_t i = 0; i < n; ++i) nl.offsets[i + 1] += nl.offsets[i];
     nl.list.resize(nl.offsets[n]);
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-      std::uint32_t at = nl.offsets[i];
-      visit(i, [&](std::uint32_t j) { nl.list[at++] = j; });
+    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t q) {
+      std::copy(pieces[q].begin(), pieces[q].end(), nl.list.begin() + nl.offsets[q * chunk]);
     });
     nl.reference.assign(x.values.begin(), x.values.end());
     ++nl.builds;

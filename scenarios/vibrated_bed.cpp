@@ -1,0 +1,139 @@
+// A deep bed of soft spheres on a vibrating plate, periodic sideways: the
+// floor moves as A sin(2 pi f t) under gravity along -z. By default the bed
+// of LAMMPS's shaken-bed benchmark (a 24 x 24 box, 10 580 spheres of
+// diameter 1 and mass 1 on a simple cubic lattice of reduced density 1.05
+// filling 0 <= x, y < 22.5, 0.6 <= z < 20.5; Hookean contacts k = 2000 with
+// LAMMPS's damping rate gamma_n = 50, i.e. a damping force m_eff gamma_n
+// times the normal speed; the floor at amplitude 0.5, period 1; starting at
+// kT = 0.1), so that the two run side by side. Observables: the energies and
+// the balance of what the floor injects and the contacts dissipate, the
+// contact count and coordination number.
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <numbers>
+#include <vector>
+
+#include "components/force.hpp"
+#include "components/mass.hpp"
+#include "components/position.hpp"
+#include "components/radius.hpp"
+#include "components/velocity.hpp"
+#include "engine/rng.hpp"
+#include "engine/run.hpp"
+#include "engine/scenario.hpp"
+#include "engine/stream_ids.hpp"
+#include "engine/units.hpp"
+#include "systems/dem/dem_setup.hpp"
+
+namespace granflow::scenarios {
+namespace {
+
+using dem::ContactLaw;
+using dem::DemWall;
+
+// The law of a contact of reduced mass m_eff: from contact.damping_rate
+// (gamma = m_eff gamma_n) where it is given, else from the restitution.
+ContactLaw law_for(const Config& c, double m_eff) {
+  ContactLaw law = dem::law_from(c, c.real("contact.stiffness"), c.real("contact.restitution"));
+  if (c.real("contact.damping_rate") > 0.0 && law.model == dem::ContactModel::lsd)
+    law.damping = m_eff * c.real("contact.damping_rate") / std::sqrt(m_eff * law.stiffness);
+  return law;
+}
+
+void build(Run& run) {
+  constexpr int D = 3;
+  const Config& c = run.config();
+  const std::array<double, D> box = dem::box_from(c, "vibrated_bed");
+  const double radius = c.real("particle.radius"), mass = c.real("particle.mass");
+  const ContactLaw law = law_for(c, 0.5 * mass);
+  double t_c = 0.0;
+  const double dt = dem::time_step_from(c, law, mass, t_c);
+  std::vector<DemWall> walls = dem::walls_from(c, box);
+  if (walls.empty()) {
+    DemWall floor;
+    floor.axis = 2;
+    floor.side = -1;
+    floor.amplitude = c.real("shaking.amplitude");
+    floor.omega = 2.0 * std::numbers::pi * c.real("shaking.frequency");
+    floor.law = law_for(c, mass);
+    DemWall ceiling = floor;
+    ceiling.side = +1;
+    ceiling.rest = box[2];
+    ceiling.amplitude = 0.0;
+    walls = {floor, ceiling};
+  }
+  // The lattice sites (a, b, k) * spacing inside the fill region, in order.
+  const double spacing = std::cbrt(1.0 / c.real("bed.lattice_density"));
+  const auto& fill = c.reals("bed.fill");
+  if (fill.size() != 6)
+    throw ConfigError(fmt::format("bed.fill has {} entries; it needs [x0, x1, y0, y1, z0, z1]", fill.size()));
+  std::vector<Vec<D>> sites;
+  for (int k = 0; k * spacing < fill[5]; ++k)
+    for (int b = 0; b * spacing < fill[3]; ++b)
+      for (int a = 0; a * spacing < fill[1]; ++a) {
+        const Vec<D> p(a * spacing, b * spacing, k * spacing);
+        if (p[0] >= fill[0] && p[1] >= fill[2] && p[2] >= fill[4]) sites.push_back(p);
+      }
+  const auto n = static_cast<std::size_t>(c.integer("system.count"));
+  if (n > sites.size())
+    throw ConfigError(fmt::format("system.count = {} exceeds the {} lattice sites of bed.fill at bed.lattice_density "
+                                  "= {}", n, sites.size(), c.real("bed.lattice_density")));
+  const double temperature = c.real("bed.temperature");
+  run.initial_state([&](World& world) {
+    world.resize(n);
+    auto& x = world.add_component<Position<D>>();
+    auto& v = world.add_component<Velocity<D>>();
+    world.add_component<Force<D>>();
+    auto& r = world.add_component<Radius>();
+    auto& m = world.add_component<Mass>();
+    Vec<D> mean = Vec<D>::Zero();
+    for (std::size_t i = 0; i < n; ++i) {
+      x[i] = sites[i];
+      Philox random(stream::dem_initial, run.seed(), 0, i);
+      for (int a = 0; a < D; ++a) v[i][a] = std::sqrt(temperature / mass) * random.normal();
+      mean += v[i] / static_cast<double>(n);
+      r[i] = radius;
+      m[i] = mass;
+    }
+    for (std::size_t i = 0; i < n; ++i) v[i] -= mean;
+  });
+  const auto outputs = std::make_shared<EveryTime>(c.real("output.interval"), c.real("run.t_stop"));
+  dem::add_dem_step(run, box, {true, true, false}, law, walls, dt, t_c, outputs);
+}
+
+}  // namespace
+
+GRANFLOW_REGISTER_SCENARIO(vibrated_bed, Scenario{
+  .name = "vibrated_bed",
+  .summary = "a deep bed of soft spheres on a vibrating plate, periodic sideways (LAMMPS's shaken-bed workload)",
+  .default_output = "vibrated_bed.h5md",
+  .keys = [](ConfigSchema& s) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    dem::DemDefaults d;
+    d.count = 10580;
+    d.box = {24.0, 24.0, 80.0};
+    d.stiffness = 2000.0;
+    d.restitution = 0.5;
+    d.amplitude = 0.5;
+    d.frequency = 1.0;
+    d.t_stop = 10.0;
+    d.output_interval = 1.0;
+    dem::declare_dem_keys(s, d);
+    s.real("contact.damping_rate", 50.0, 0.0, inf,
+           "LAMMPS's gamma_n: damping force m_eff gamma_n times the normal speed (0: from contact.restitution)")
+        .real("bed.lattice_density", 1.05, 0.0, inf, "spheres per unit volume of the initial simple cubic lattice", true)
+        .real_array("bed.fill", {0.0, 22.5, 0.0, 22.5, 0.6, 20.5}, -1e9, 1e9, 6, 6,
+                    "[x0, x1, y0, y1, z0, z1]: the lattice sites filled, in this order, up to system.count")
+        .real("bed.temperature", 0.1, 0.0, inf, "initial kT of the spheres (Maxwell-Boltzmann, no net momentum)");
+    s.unit("contact.damping_rate", unit::rate).unit("bed.lattice_density", "L-3").unit("bed.fill", unit::length)
+        .unit("bed.temperature", unit::energy);
+  },
+  .build = build,
+})
+
+}  // namespace granflow::scenarios

@@ -1,0 +1,184 @@
+#pragma once
+// What the soft-sphere scenarios share: their keys (declare_dem_keys), the
+// contact law and time step from them, the walls of the `walls` list, and
+// the step chain with its energy observer (add_dem_step): velocity Verlet
+// around the neighbour lists and contact forces, the energy ledger.
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "engine/config.hpp"
+#include "engine/input_error.hpp"
+#include "engine/run.hpp"
+#include "engine/units.hpp"
+#include "systems/dem/contact_forces.hpp"
+#include "systems/dem/dem_energy.hpp"
+#include "systems/dem/neighbour_list.hpp"
+#include "systems/dem/velocity_verlet.hpp"
+
+namespace granflow::dem {
+
+struct DemDefaults {
+  std::int64_t count = 300;
+  std::vector<double> box{20.0, 4.0, 40.0};
+  double stiffness = 2e4;
+  double restitution = 0.7;
+  double amplitude = 0.5;
+  double frequency = 2.5;
+  double t_stop = 300.0;
+  double output_interval = 1.0;
+};
+
+inline void declare_dem_keys(ConfigSchema& s, const DemDefaults& d) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  s.integer("system.count", d.count, 1, 1000000, "number of spheres")
+      .real_array("system.box", d.box, 0.0, 1e9, 3, 3, "box edge lengths along x, y, z")
+      .real("particle.radius", 0.5, 0.0, inf, "sphere radius", true)
+      .real("particle.mass", 1.0, 0.0, inf, "sphere mass", true)
+      .choice("contact.model", "lsd", {"lsd", "hertz"},
+              "normal contact force: linear spring-dashpot or Hertz with Kuwabara-Kono damping")
+      .real("contact.stiffness", d.stiffness, 0.0, inf, "spring constant k (Hertz: of k delta^{3/2})", true)
+      .real("contact.restitution", d.restitution, 0.0, 1.0, "restitution e of the linear spring-dashpot (sets its damping)")
+      .real("contact.hertz_damping", 0.0, 0.0, inf, "Hertz: the Kuwabara-Kono damping time A")
+      .real("contact.friction", 0.0, 0.0, inf, "Coulomb friction mu (0: frictionless; only 0 is built)")
+      .real("shaking.amplitude", d.amplitude, 0.0, inf, "amplitude A of the floor's motion A sin(2 pi f t)")
+      .real("shaking.frequency", d.frequency, 0.0, inf, "frequency f of the floor's motion")
+      .real_array("gravity.acceleration", {0.0, 0.0, -1.0}, -1e300, 1e300, 3, 3, "gravity, one entry per axis")
+      .real("neighbour.skin", 0.4, 0.0, inf, "Verlet skin, in sphere radii", true)
+      .real("run.t_stop", d.t_stop, 0.0, inf, "simulated time to run", true)
+      .real("run.dt", 0.0, 0.0, inf, "time step (0: t_c / 50 of a sphere pair)")
+      .real("output.interval", d.output_interval, 0.0, inf, "time between outputs", true);
+  ConfigSchema wall;
+  wall.choice("axis", "z", {"x", "y", "z"}, "the axis the wall is perpendicular to")
+      .real("position", 0.0, 0.0, inf, "its position along that axis (below the middle: spheres above it)")
+      .real("stiffness", 0.0, 0.0, inf, "its contact stiffness (0: contact.stiffness)")
+      .real("restitution", 0.0, 0.0, 1.0, "its restitution (0: contact.restitution)")
+      .real("amplitude", 0.0, 0.0, inf, "amplitude of its motion along its normal")
+      .real("frequency", 0.0, 0.0, inf, "frequency of that motion");
+  wall.unit("position", unit::length).unit("stiffness", "M T-2").unit("amplitude", unit::length).unit("frequency", unit::rate)
+      .unit("restitution", unit::none);
+  s.table_array("walls", std::move(wall), 0, 16, "walls (default: the scenario's, the floor shaking)");
+  s.unit("system.box", unit::length).unit("particle.radius", unit::length).unit("particle.mass", unit::mass)
+      .unit("contact.stiffness", "M T-2").unit("contact.restitution", unit::none).unit("contact.hertz_damping", unit::time)
+      .unit("contact.friction", unit::none).unit("shaking.amplitude", unit::length).unit("shaking.frequency", unit::rate)
+      .unit("gravity.acceleration", unit::acceleration).unit("neighbour.skin", unit::none).unit("run.t_stop", unit::time)
+      .unit("run.dt", unit::time).unit("output.interval", unit::time);
+}
+
+inline ContactLaw law_from(const Config& c, double stiffness, double restitution) {
+  ContactLaw law;
+  law.model = c.text("contact.model") == "hertz" ? ContactModel::hertz : ContactModel::lsd;
+  law.stiffness = stiffness;
+  law.damping = law.model == ContactModel::lsd ? ContactLaw::lsd_damping_factor(restitution) : c.real("contact.hertz_damping");
+  return law;
+}
+
+inline std::array<double, 3> box_from(const Config& c, const char* scenario) {
+  const auto& edges = c.reals("system.box");
+  if (edges.size() != 3)
+    throw ConfigError(fmt::format("system.box has {} entries; {} is 3D and needs 3", edges.size(), scenario));
+  if (c.real("contact.friction") > 0.0)
+    throw ConfigError("contact.friction > 0: tangential friction is not built yet; use 0 (frictionless)");
+  return {edges[0], edges[1], edges[2]};
+}
+
+// run.dt, or t_c / 50 of a pair of spheres of `mass`; refused where it
+// cannot resolve a contact, a warning where it resolves it coarsely.
+inline double time_step_from(const Config& c, const ContactLaw& law, double mass, double& t_c) {
+  t_c = law.model == ContactModel::lsd ? law.contact_time(0.5 * mass) : 0.0;
+  double dt = c.real("run.dt");
+  if (dt == 0.0) {
+    if (law.model != ContactModel::lsd)
+      throw ConfigError("run.dt = 0 (t_c / 50) needs contact.model = \"lsd\"; give run.dt for Hertz contacts");
+    dt = t_c / 50.0;
+  }
+  if (t_c > 0.0 && dt > t_c / 3.0)
+    throw ConfigError(fmt::format("run.dt = {:.3g} cannot resolve a contact of duration t_c = {:.3g} (at most t_c / 3; "
+                                  "t_c / 50 is the default)", dt, t_c));
+  if (t_c > 0.0 && dt > t_c / 10.0)
+    spdlog::warn("run.dt = {:.3g} is above t_c / 10 = {:.3g}: contacts are resolved coarsely", dt, t_c / 10.0);
+  return dt;
+}
+
+// The walls of the `walls` list (empty where none is given).
+inline std::vector<DemWall> walls_from(const Config& c, const std::array<double, 3>& box) {
+  std::vector<DemWall> walls;
+  const auto tables = c.tables("walls");
+  for (std::size_t k = 0; k < tables.size(); ++k) {
+    const Config& t = tables[k];
+    DemWall w;
+    w.axis = t.text("axis") == "x" ? 0 : t.text("axis") == "y" ? 1 : 2;
+    w.rest = t.real("position");
+    if (w.rest < 0.0 || w.rest > box[static_cast<std::size_t>(w.axis)])
+      throw ConfigError(fmt::format("walls[{}].position = {} is outside the box (0 to {} along {})", k, w.rest,
+                                    box[static_cast<std::size_t>(w.axis)], t.text("axis")));
+    w.side = w.rest < 0.5 * box[static_cast<std::size_t>(w.axis)] ? -1 : +1;
+    w.amplitude = t.real("amplitude");
+    w.omega = 2.0 * std::numbers::pi * t.real("frequency");
+    w.law = law_from(c, t.real("stiffness") > 0 ? t.real("stiffness") : c.real("contact.stiffness"),
+                     t.real("restitution") > 0 ? t.real("restitution") : c.real("contact.restitution"));
+    walls.push_back(w);
+  }
+  return walls;
+}
+
+// The resources, the forces of the initial state, the step chain, the
+// energy observer at `outputs`, the stop at run.t_stop. Call after
+// run.initial_state.
+inline void add_dem_step(Run& run, const std::array<double, 3>& box, const std::array<bool, 3>& periodic,
+                         const ContactLaw& law, std::vector<DemWall> walls, double dt, double t_c,
+                         const TriggerPtr& outputs) {
+  constexpr int D = 3;
+  const Config& c = run.config();
+  auto& world = run.world();
+  auto& dem_box = world.emplace_resource<DemBox<D>>();
+  dem_box.length = box;
+  dem_box.periodic = periodic;
+  world.emplace_resource<NeighbourList<D>>().skin = c.real("neighbour.skin") * c.real("particle.radius");
+  auto& interactions = world.emplace_resource<DemInteractions<D>>();
+  interactions.law = law;
+  interactions.walls = std::move(walls);
+  const auto& g = c.reals("gravity.acceleration");
+  if (g.size() != 3) throw ConfigError(fmt::format("gravity.acceleration has {} entries; it needs 3", g.size()));
+  for (int a = 0; a < D; ++a) interactions.gravity[static_cast<std::size_t>(a)] = g[static_cast<std::size_t>(a)];
+  auto& ledger = world.emplace_resource<DemLedger>();
+  run.keep("energy", ledger);
+  DemNeighbourList<D>().run(world);
+  DemContactForces<D>().run(world);
+  ledger.last_wall_power = interactions.wall_power;
+  ledger.last_dissipation_power = interactions.dissipation_power;
+  const double omega = 2.0 * std::numbers::pi * c.real("shaking.frequency");
+  run.derive("dt", dt);
+  run.derive("contact_time", t_c);
+  run.derive("shaking_acceleration_ratio",
+             c.real("shaking.amplitude") * omega * omega / std::max(std::abs(g[2]), 1e-300));
+  std::vector<std::string> boundary;
+  for (bool p : periodic) boundary.push_back(p ? "periodic" : "reflecting");
+  run.box(std::vector<double>(box.begin(), box.end()), boundary);
+  run.step<DemKickDrift<D>>(dt);
+  run.step<DemNeighbourList<D>>();
+  run.step<DemContactForces<D>>();
+  run.step<DemKick<D>>(dt);
+  run.step<DemEnergyAccount<D>>(dt);
+  run.observe<DemEnergyObserver<D>>(outputs);
+  run.stop_at_time(c.real("run.t_stop"));
+  run.finished_reason("reached run.t_stop");
+  const auto n = static_cast<double>(c.integer("system.count"));
+  run.rate("particle-steps/s", [&run, n] { return n * static_cast<double>(run.clock().step); });
+  run.at_finish([&run](H5mdFile& file, const RunOutcome&) {
+    const auto& nl = run.world().resource<NeighbourList<D>>();
+    file.write_attribute("/observables", "neighbour_list_builds", static_cast<double>(nl.builds));
+    spdlog::info("{} steps, {} neighbour-list builds", run.clock().step, nl.builds);
+  });
+}
+
+}  // namespace granflow::dem
