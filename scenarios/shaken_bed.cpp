@@ -134,10 +134,11 @@ void build(Run& run) {
     const auto eggers = dem::fit_eggers_flux(counts->flux_samples);
     file.write_attribute("/observables", "eggers_flux_A", eggers[0]);
     file.write_attribute("/observables", "eggers_flux_B", eggers[1]);
-    spdlog::info("time average after the warm-up ({:.0f} outputs): a = {:.3f}, |a| = {:.3f}; {:.0f} crossings; Eggers "
-                 "flux fit A = {:.3g}, B = {:.3g} (equal sharing is stable for B < 4)",
-                 counts->samples, counts->sum / samples, counts->abs_sum / samples, counts->crossings, eggers[0],
-                 eggers[1]);
+    spdlog::info("time average after the warm-up ({:.0f} outputs): a = {:.3f}, |a| = {:.3f}; {:.0f} crossings; {}",
+                 counts->samples, counts->sum / samples, counts->abs_sum / samples, counts->crossings,
+                 eggers[1] != 0.0 ? fmt::format("Eggers flux fit A = {:.3g}, B = {:.3g} (equal sharing is stable for "
+                                                "B < 4)", eggers[0], eggers[1])
+                                  : std::string("too few crossings to fit Eggers' flux model"));
   });
 }
 

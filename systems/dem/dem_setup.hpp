@@ -23,6 +23,7 @@
 #include "systems/dem/contact_forces.hpp"
 #include "systems/dem/dem_energy.hpp"
 #include "systems/dem/neighbour_list.hpp"
+#include "systems/dem/position_verlet.hpp"
 #include "systems/dem/velocity_verlet.hpp"
 
 namespace granflow::dem {
@@ -56,6 +57,8 @@ inline void declare_dem_keys(ConfigSchema& s, const DemDefaults& d) {
       .real("neighbour.skin", 0.4, 0.0, inf, "Verlet skin, in sphere radii", true)
       .real("run.t_stop", d.t_stop, 0.0, inf, "simulated time to run", true)
       .real("run.dt", 0.0, 0.0, inf, "time step (0: t_c / 50 of a sphere pair)")
+      .choice("run.integrator", "velocity_verlet", {"velocity_verlet", "position_verlet"},
+              "velocity Verlet, or position Verlet with the backward-difference velocity")
       .real("output.interval", d.output_interval, 0.0, inf, "time between outputs", true);
   ConfigSchema wall;
   wall.choice("axis", "z", {"x", "y", "z"}, "the axis the wall is perpendicular to")
@@ -164,10 +167,18 @@ inline void add_dem_step(Run& run, const std::array<double, 3>& box, const std::
   std::vector<std::string> boundary;
   for (bool p : periodic) boundary.push_back(p ? "periodic" : "reflecting");
   run.box(std::vector<double>(box.begin(), box.end()), boundary);
-  run.step<DemKickDrift<D>>(dt);
-  run.step<DemNeighbourList<D>>();
-  run.step<DemContactForces<D>>();
-  run.step<DemKick<D>>(dt);
+  if (c.text("run.integrator") == "position_verlet") {
+    // A resumed run has its previous positions from the checkpoint.
+    if (!world.has_component<PreviousPosition<D>>()) DemPositionVerlet<D>::start(world, dt);
+    run.step<DemPositionVerlet<D>>(dt);
+    run.step<DemNeighbourList<D>>();
+    run.step<DemContactForces<D>>();
+  } else {
+    run.step<DemKickDrift<D>>(dt);
+    run.step<DemNeighbourList<D>>();
+    run.step<DemContactForces<D>>();
+    run.step<DemKick<D>>(dt);
+  }
   run.step<DemEnergyAccount<D>>(dt);
   run.observe<DemEnergyObserver<D>>(outputs);
   run.stop_at_time(c.real("run.t_stop"));

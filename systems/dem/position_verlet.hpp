@@ -1,0 +1,86 @@
+#pragma once
+// Position Verlet (Stoermer's form, e.g. Clewett 2013), the alternative to
+// velocity Verlet: x(t + dt) = 2 x(t) - x(t - dt) + F(t) dt^2 / m, and the
+// velocity the dampers and observers see is the backward difference
+// v(t + dt) = (x(t + dt) - x(t)) / dt. The previous positions are a column
+// of their own (unwrapped relative to the current ones, so that a sphere
+// crossing a periodic boundary keeps its displacement).
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+#include "components/clock.hpp"
+#include "components/force.hpp"
+#include "components/mass.hpp"
+#include "components/position.hpp"
+#include "components/vector.hpp"
+#include "components/velocity.hpp"
+#include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
+#include "engine/world.hpp"
+#include "systems/dem/neighbour_list.hpp"
+
+namespace granflow::dem {
+
+inline const SystemDescription dem_position_verlet_description{
+    "dem_position_verlet", "position Verlet: x += (x - x_previous) + F dt^2 / m, v the backward difference"};
+
+template <int D>
+struct PreviousPosition : Column<Vec<D>> {
+  static constexpr const char* key = "previous_position";
+};
+
+template <int D>
+class DemPositionVerlet : public System {
+ public:
+  explicit DemPositionVerlet(double dt) : dt_(dt) {}
+  std::string name() const override { return "dem_position_verlet"; }
+  Access access() const override {
+    return Access{}.reads<Force<D>, Mass, DemBox<D>>().template writes<Position<D>, Velocity<D>, PreviousPosition<D>, Clock>();
+  }
+
+  // The previous positions of a start from x and v: x - v dt + F dt^2 / 2m,
+  // the Taylor step back.
+  static void start(World& world, double dt) {
+    auto& previous = world.has_component<PreviousPosition<D>>() ? world.component<PreviousPosition<D>>()
+                                                                 : world.add_component<PreviousPosition<D>>();
+    const auto& x = world.component<Position<D>>();
+    const auto& v = world.component<Velocity<D>>();
+    const auto& f = world.component<Force<D>>();
+    const auto& m = world.component<Mass>();
+    for (std::size_t i = 0; i < world.size(); ++i) previous[i] = x[i] - dt * v[i] + (0.5 * dt * dt / m[i]) * f[i];
+  }
+
+  void run(World& world) override {
+    auto& clock = world.resource<Clock>();
+    ++clock.step;
+    clock.time = static_cast<double>(clock.step) * dt_;
+    auto& x = world.component<Position<D>>();
+    auto& v = world.component<Velocity<D>>();
+    auto& previous = world.component<PreviousPosition<D>>();
+    const auto& f = world.component<Force<D>>();
+    const auto& m = world.component<Mass>();
+    const auto& box = world.resource<DemBox<D>>();
+    const double dt = dt_;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 2048), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        const Vec<D> next = 2.0 * x[i] - previous[i] + (dt * dt / m[i]) * f[i];
+        v[i] = (next - x[i]) / dt;
+        previous[i] = x[i];
+        x[i] = next;
+        for (int a = 0; a < D; ++a)
+          if (box.periodic[a]) {
+            const double shift = box.length[a] * std::floor(x[i][a] / box.length[a]);
+            x[i][a] -= shift;
+            previous[i][a] -= shift;
+          }
+      }
+    });
+  }
+
+ private:
+  double dt_;
+};
+
+}  // namespace granflow::dem
