@@ -32,6 +32,7 @@
 #include "engine/units.hpp"
 #include "systems/dem/compartments.hpp"
 #include "systems/dem/dem_setup.hpp"
+#include "systems/dem/height_profiles.hpp"
 
 namespace granflow::scenarios {
 namespace {
@@ -126,6 +127,14 @@ void build(Run& run) {
   run.keep("compartments", *counts);
   run.observe<dem::CompartmentSampler<D>>(std::make_shared<EverySteps>(1), 0, divider_x, counts);
   run.observe<dem::CompartmentObserver<D>>(outputs, 0, divider_x, counts);
+  dem::HeightProfileGeometry profile;
+  profile.height = box[2];
+  profile.layer = 2.0 * radius;
+  profile.area = divider_x * box[1];
+  profile.split_axis = 0;
+  profile.split_at = divider_x;
+  profile.area_right = (box[0] - divider_x) * box[1];
+  run.observe<dem::DemHeightProfiles<D>>(outputs, profile);
   run.at_finish([counts](H5mdFile& file, const RunOutcome&) {
     const double samples = std::max(counts->samples, 1.0);
     file.write_attribute("/observables", "asymmetry_time_mean", counts->sum / samples);

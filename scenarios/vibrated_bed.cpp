@@ -7,7 +7,8 @@
 // times the normal speed; the floor at amplitude 0.5, period 1; starting at
 // kT = 0.1), so that the two run side by side. Observables: the energies and
 // the balance of what the floor injects and the contacts dissipate, the
-// contact count and coordination number.
+// contact count and coordination number, and the packing fraction and
+// granular temperature against height.
 
 #include <fmt/format.h>
 
@@ -29,6 +30,7 @@
 #include "engine/stream_ids.hpp"
 #include "engine/units.hpp"
 #include "systems/dem/dem_setup.hpp"
+#include "systems/dem/height_profiles.hpp"
 
 namespace granflow::scenarios {
 namespace {
@@ -104,6 +106,11 @@ void build(Run& run) {
   });
   const auto outputs = std::make_shared<EveryTime>(c.real("output.interval"), c.real("run.t_stop"));
   dem::add_dem_step(run, box, {true, true, false}, law, walls, dt, t_c, outputs);
+  dem::HeightProfileGeometry profile;
+  profile.height = box[2];
+  profile.layer = 2.0 * radius;
+  profile.area = box[0] * box[1];
+  run.observe<dem::DemHeightProfiles<D>>(outputs, profile);
 }
 
 }  // namespace
