@@ -96,12 +96,7 @@ void build(Run& run) {
     throw ConfigError(fmt::format("system.count = {} spheres of radius {} do not fit below the top of the box "
                                   "(system.box z = {})", n, radius, box[2]));
   run.initial_state([&](World& world) {
-    world.resize(n);
-    auto& x = world.add_component<Position<D>>();
-    auto& v = world.add_component<Velocity<D>>();
-    world.add_component<Force<D>>();
-    auto& r = world.add_component<Radius>();
-    auto& m = world.add_component<Mass>();
+    auto [x, v] = dem::add_spheres(world, n, radius, mass);
     std::array<std::size_t, 2> placed{};
     for (std::size_t i = 0; i < n; ++i) {
       const std::size_t side = i % 2;
@@ -112,8 +107,6 @@ void build(Run& run) {
                     floor_clearance + spacing * static_cast<double>(k / (row * cols)));
       Philox random(stream::dem_initial, run.seed(), 0, i);
       for (int a = 0; a < D; ++a) v[i][a] = 0.1 * random.normal();
-      r[i] = radius;
-      m[i] = mass;
     }
   });
   const double t_stop = c.real("run.t_stop");

@@ -87,20 +87,13 @@ void build(Run& run) {
                                   "= {}", n, sites.size(), c.real("bed.lattice_density")));
   const double temperature = c.real("bed.temperature");
   run.initial_state([&](World& world) {
-    world.resize(n);
-    auto& x = world.add_component<Position<D>>();
-    auto& v = world.add_component<Velocity<D>>();
-    world.add_component<Force<D>>();
-    auto& r = world.add_component<Radius>();
-    auto& m = world.add_component<Mass>();
+    auto [x, v] = dem::add_spheres(world, n, radius, mass);
     Vec<D> mean = Vec<D>::Zero();
     for (std::size_t i = 0; i < n; ++i) {
       x[i] = sites[i];
       Philox random(stream::dem_initial, run.seed(), 0, i);
       for (int a = 0; a < D; ++a) v[i][a] = std::sqrt(temperature / mass) * random.normal();
       mean += v[i] / static_cast<double>(n);
-      r[i] = radius;
-      m[i] = mass;
     }
     for (std::size_t i = 0; i < n; ++i) v[i] -= mean;
   });

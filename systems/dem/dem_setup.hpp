@@ -16,6 +16,11 @@
 #include <string>
 #include <vector>
 
+#include "components/force.hpp"
+#include "components/mass.hpp"
+#include "components/position.hpp"
+#include "components/radius.hpp"
+#include "components/velocity.hpp"
 #include "engine/config.hpp"
 #include "engine/input_error.hpp"
 #include "engine/run.hpp"
@@ -132,6 +137,22 @@ inline std::vector<DemWall> walls_from(const Config& c, const std::array<double,
     walls.push_back(w);
   }
   return walls;
+}
+
+// The columns of `n` spheres of one radius and mass (positions and
+// velocities left for the caller), for a scenario's initial state.
+struct SphereColumns {
+  Position<3>& x;
+  Velocity<3>& v;
+};
+inline SphereColumns add_spheres(World& world, std::size_t n, double radius, double mass) {
+  world.resize(n);
+  auto& x = world.add_component<Position<3>>();
+  auto& v = world.add_component<Velocity<3>>();
+  world.add_component<Force<3>>();
+  world.add_component<Radius>().values.assign(n, radius);
+  world.add_component<Mass>().values.assign(n, mass);
+  return {x, v};
 }
 
 // The resources, the forces of the initial state, the step chain, the

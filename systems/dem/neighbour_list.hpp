@@ -36,6 +36,18 @@ struct DemBox {
   std::array<double, D> length{};
   std::array<bool, D> periodic{};
 
+  // Puts p back into the box along the periodic axes; returns what was
+  // subtracted (for what moves with p, such as its previous position).
+  Vec<D> wrap(Vec<D>& p) const {
+    Vec<D> shift = Vec<D>::Zero();
+    for (int k = 0; k < D; ++k)
+      if (periodic[k]) {
+        shift[k] = length[k] * std::floor(p[k] / length[k]);
+        p[k] -= shift[k];
+      }
+    return shift;
+  }
+
   // The separation a - b, as the minimal image along periodic axes.
   void separation(const Vec<D>& a, const Vec<D>& b, double* out) const {
     for (int k = 0; k < D; ++k) {

@@ -8,7 +8,6 @@
 
 #include <tbb/parallel_for.h>
 
-#include <cmath>
 
 #include "components/clock.hpp"
 #include "components/force.hpp"
@@ -69,12 +68,7 @@ class DemPositionVerlet : public System {
         v[i] = (next - x[i]) / dt;
         previous[i] = x[i];
         x[i] = next;
-        for (int a = 0; a < D; ++a)
-          if (box.periodic[a]) {
-            const double shift = box.length[a] * std::floor(x[i][a] / box.length[a]);
-            x[i][a] -= shift;
-            previous[i][a] -= shift;
-          }
+        previous[i] -= box.wrap(x[i]);
       }
     });
   }

@@ -7,7 +7,6 @@
 
 #include <tbb/parallel_for.h>
 
-#include <cmath>
 
 #include "components/clock.hpp"
 #include "components/force.hpp"
@@ -47,8 +46,7 @@ class DemKickDrift : public System {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         v[i] += (0.5 * dt / m[i]) * f[i];
         x[i] += dt * v[i];
-        for (int a = 0; a < D; ++a)
-          if (box.periodic[a]) x[i][a] -= box.length[a] * std::floor(x[i][a] / box.length[a]);
+        box.wrap(x[i]);
       }
     });
   }
