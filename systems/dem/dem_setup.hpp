@@ -164,10 +164,19 @@ inline void add_dem_step(Run& run, const std::array<double, 3>& box, const std::
   constexpr int D = 3;
   const Config& c = run.config();
   auto& world = run.world();
+  // A periodic axis shorter than twice the interaction range would let a
+  // sphere touch two images of another; the lists see only the nearest.
+  const double skin = c.real("neighbour.skin") * c.real("particle.radius");
+  const double range = 4.0 * c.real("particle.radius") + skin;
+  for (int a = 0; a < D; ++a)
+    if (periodic[static_cast<std::size_t>(a)] && box[static_cast<std::size_t>(a)] <= 2.0 * range)
+      throw ConfigError(fmt::format("system.box[{}] = {} is too short for a periodic axis: it must exceed twice the "
+                                    "interaction range, 2 (2 particle.radius + skin) = {}",
+                                    a, box[static_cast<std::size_t>(a)], 2.0 * range));
   auto& dem_box = world.emplace_resource<DemBox<D>>();
   dem_box.length = box;
   dem_box.periodic = periodic;
-  world.emplace_resource<NeighbourList<D>>().skin = c.real("neighbour.skin") * c.real("particle.radius");
+  world.emplace_resource<NeighbourList<D>>().skin = skin;
   auto& interactions = world.emplace_resource<DemInteractions<D>>();
   interactions.law = law;
   interactions.walls = std::move(walls);
