@@ -136,10 +136,11 @@ class SrdCellReduction : public System {
               CellSums<D>& s = sums[c];
               if (count[c]++ == 0) start_sums<D>(s, seen);
               double w[D];
-              add_to_sums<D>(s, seen, mass ? mass[i] : m0, w);
+              const double m = mass ? mass[i] : m0;
+              add_to_sums<D>(s, seen, m, w);
               if (moments) {
                 const double y = x[D * i + 1] + y_shift;
-                const double offset = (mass ? mass[i] : m0) * (y - static_cast<double>(floor_index(y)) - 0.5);  // from the cell's centre
+                const double offset = m * (y - static_cast<double>(floor_index(y)) - 0.5);  // from the cell's centre
                 for (int a = 0; a < D; ++a) moment[D * c + a] += offset * w[a];
                 moment_mass[c] += offset;
               }
