@@ -3,7 +3,7 @@
 // the energy the floor injected less what the contacts dissipated matches
 // the change of kinetic, potential and elastic energy to within 3 % of the
 // injected energy (the ledger integrates the powers by the trapezoidal
-// rule over the steps; measured 0.7 % at the default dt = t_c / 50); the
+// rule over the steps; measured 0.65 % at the default dt = t_c / 50); the
 // packing-fraction profiles against height hold every sphere once.
 
 #include <gtest/gtest.h>
