@@ -118,6 +118,13 @@ void build(Run& run) {
     throw ConfigError(fmt::format("output.average_after = {} leaves nothing to average before run.t_stop = {}",
                                   counts->average_from, t_stop));
   run.keep("compartments", *counts);
+  // Each sphere's side follows it when the neighbour lists reorder the spheres.
+  run.world().on_permute([counts](const std::vector<std::uint32_t>& order) {
+    if (counts->left.size() != order.size()) return;
+    std::vector<double> left(order.size());
+    for (std::size_t k = 0; k < order.size(); ++k) left[k] = counts->left[order[k]];
+    counts->left.swap(left);
+  });
   run.observe<dem::CompartmentSampler<D>>(std::make_shared<EverySteps>(1), 0, divider_x, counts);
   run.observe<dem::CompartmentObserver<D>>(outputs, 0, divider_x, counts);
   dem::HeightProfileGeometry profile;

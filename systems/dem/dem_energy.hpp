@@ -2,12 +2,17 @@
 // The energy balance of the soft spheres: the work the moving walls did and
 // the energy the dampers took, integrated over the run (trapezoidal rule
 // over the instants the force pass books, second order in dt like the
-// integrator), against the kinetic, potential (-m g.x) and elastic energy:
+// integrator), against the kinetic (with rotation), potential (-m g.x) and
+// elastic energy:
 //   E(t) - E(0) = energy_injected - energy_dissipated + O(dt^2).
+// With friction the tangential springs' loss is booked per step from their
+// stored energy before and after (first order where contacts slide).
 
 #include <stdexcept>
 
+#include "components/angular_velocity.hpp"
 #include "components/mass.hpp"
+#include "components/radius.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
 #include "engine/deterministic_sum.hpp"
@@ -69,7 +74,7 @@ class DemEnergyObserver : public System {
   std::string name() const override { return "observe_dem_energy"; }
   Access access() const override {
     return Access{}
-        .reads<Position<D>, Velocity<D>, Mass, DemInteractions<D>, DemLedger>()
+        .reads<Position<D>, Velocity<D>, AngularVelocity, Radius, Mass, DemInteractions<D>, DemLedger>()
         .writes_observable("kinetic_energy", unit::energy)
         .writes_observable("potential_energy", unit::energy)
         .writes_observable("elastic_energy", unit::energy)
@@ -86,7 +91,12 @@ class DemEnergyObserver : public System {
     const auto& ledger = world.resource<DemLedger>();
     const std::size_t n = world.size();
     auto& store = world.resource<ObservableStore>();
-    store.set("kinetic_energy", 0.5 * deterministic_sum(n, [&](std::size_t i) { return m[i] * v[i].squaredNorm(); }));
+    // With friction the spheres rotate: I w^2 / 2 with I = (2/5) m r^2.
+    const Vec<3>* w = world.has_component<AngularVelocity>() ? world.component<AngularVelocity>().values.data() : nullptr;
+    const auto& r = world.component<Radius>();
+    store.set("kinetic_energy", 0.5 * deterministic_sum(n, [&](std::size_t i) {
+                return m[i] * v[i].squaredNorm() + (w ? 0.4 * m[i] * r[i] * r[i] * w[i].squaredNorm() : 0.0);
+              }));
     store.set("potential_energy", -deterministic_sum(n, [&](std::size_t i) {
                 double h = 0.0;
                 for (int a = 0; a < D; ++a) h += in.gravity[a] * x[i][a];

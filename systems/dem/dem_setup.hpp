@@ -13,13 +13,17 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <numeric>
 #include <string>
 #include <vector>
 
 #include "components/force.hpp"
+#include "components/angular_velocity.hpp"
 #include "components/mass.hpp"
+#include "components/particle_id.hpp"
 #include "components/position.hpp"
 #include "components/radius.hpp"
+#include "components/torque.hpp"
 #include "components/velocity.hpp"
 #include "engine/config.hpp"
 #include "engine/input_error.hpp"
@@ -55,11 +59,14 @@ inline void declare_dem_keys(ConfigSchema& s, const DemDefaults& d) {
       .real("contact.stiffness", d.stiffness, 0.0, inf, "spring constant k (Hertz: of k delta^{3/2})", true)
       .real("contact.restitution", d.restitution, 0.0, 1.0, "restitution e of the linear spring-dashpot (sets its damping)")
       .real("contact.hertz_damping", 0.0, 0.0, inf, "Hertz: the Kuwabara-Kono damping time A")
-      .real("contact.friction", 0.0, 0.0, inf, "Coulomb friction mu (0: frictionless; only 0 is built)")
+      .real("contact.friction", 0.0, 0.0, inf, "Coulomb friction mu of the tangential spring (0: frictionless, no rotation)")
+      .real("contact.tangential_stiffness", 2.0 / 7.0, 0.0, inf, "tangential spring k_t / k_n (with friction)")
+      .real("contact.tangential_damping", 0.5, 0.0, inf, "tangential dashpot gamma_t / gamma_n (with friction)")
       .real("shaking.amplitude", d.amplitude, 0.0, inf, "amplitude A of the floor's motion A sin(2 pi f t)")
       .real("shaking.frequency", d.frequency, 0.0, inf, "frequency f of the floor's motion")
       .real_array("gravity.acceleration", {0.0, 0.0, -1.0}, -1e300, 1e300, 3, 3, "gravity, one entry per axis")
       .real("neighbour.skin", 0.4, 0.0, inf, "Verlet skin, in sphere radii", true)
+      .boolean("neighbour.reorder", true, "put the spheres in cell order at each neighbour-list build")
       .real("run.t_stop", d.t_stop, 0.0, inf, "simulated time to run", true)
       .real("run.dt", 0.0, 0.0, inf, "time step (0: t_c / 50 of a sphere pair)")
       .choice("run.integrator", "velocity_verlet", {"velocity_verlet", "position_verlet"},
@@ -77,7 +84,8 @@ inline void declare_dem_keys(ConfigSchema& s, const DemDefaults& d) {
   s.table_array("walls", std::move(wall), 0, 16, "walls (default: the scenario's, the floor shaking)");
   s.unit("system.box", unit::length).unit("particle.radius", unit::length).unit("particle.mass", unit::mass)
       .unit("contact.stiffness", "M T-2").unit("contact.restitution", unit::none).unit("contact.hertz_damping", unit::time)
-      .unit("contact.friction", unit::none).unit("shaking.amplitude", unit::length).unit("shaking.frequency", unit::rate)
+      .unit("contact.friction", unit::none)
+      .unit("contact.tangential_stiffness", unit::none).unit("contact.tangential_damping", unit::none).unit("shaking.amplitude", unit::length).unit("shaking.frequency", unit::rate)
       .unit("gravity.acceleration", unit::acceleration).unit("neighbour.skin", unit::none).unit("run.t_stop", unit::time)
       .unit("run.dt", unit::time).unit("output.interval", unit::time);
 }
@@ -94,8 +102,6 @@ inline std::array<double, 3> box_from(const Config& c, const char* scenario) {
   const auto& edges = c.reals("system.box");
   if (edges.size() != 3)
     throw ConfigError(fmt::format("system.box has {} entries; {} is 3D and needs 3", edges.size(), scenario));
-  if (c.real("contact.friction") > 0.0)
-    throw ConfigError("contact.friction > 0: tangential friction is not built yet; use 0 (frictionless)");
   return {edges[0], edges[1], edges[2]};
 }
 
@@ -152,6 +158,10 @@ inline SphereColumns add_spheres(World& world, std::size_t n, double radius, dou
   world.add_component<Force<3>>();
   world.add_component<Radius>().values.assign(n, radius);
   world.add_component<Mass>().values.assign(n, mass);
+  // Storage order changes at the neighbour-list builds; output follows the ids.
+  auto& id = world.add_component<ParticleId>().values;
+  id.resize(n);
+  std::iota(id.begin(), id.end(), 0u);
   return {x, v};
 }
 
@@ -176,19 +186,43 @@ inline void add_dem_step(Run& run, const std::array<double, 3>& box, const std::
   auto& dem_box = world.emplace_resource<DemBox<D>>();
   dem_box.length = box;
   dem_box.periodic = periodic;
-  world.emplace_resource<NeighbourList<D>>().skin = skin;
   auto& interactions = world.emplace_resource<DemInteractions<D>>();
   interactions.law = law;
   interactions.walls = std::move(walls);
+  interactions.friction.mu = c.real("contact.friction");
+  interactions.friction.stiffness_ratio = c.real("contact.tangential_stiffness");
+  interactions.friction.damping_ratio = c.real("contact.tangential_damping");
+  interactions.friction.dt = dt;
+  const bool friction = interactions.friction.active();
+  if (friction && c.text("run.integrator") == "position_verlet")
+    throw ConfigError("contact.friction > 0 needs run.integrator = \"velocity_verlet\" (position Verlet has no rotation)");
+  if (friction && c.real("contact.tangential_stiffness") <= 0.0)
+    throw ConfigError("contact.tangential_stiffness = 0 with contact.friction > 0: the tangential spring needs a stiffness");
+  if (friction && !world.has_component<AngularVelocity>()) {
+    world.add_component<AngularVelocity>();
+    world.add_component<Torque>();
+  }
+  auto& neighbours = world.emplace_resource<NeighbourList<D>>();
+  neighbours.skin = skin;
+  neighbours.reorder = c.boolean("neighbour.reorder");
+  neighbours.keeps_history = friction;
+  neighbours.walls = interactions.walls.size();
   const auto& g = c.reals("gravity.acceleration");
   if (g.size() != 3) throw ConfigError(fmt::format("gravity.acceleration has {} entries; it needs 3", g.size()));
   for (int a = 0; a < D; ++a) interactions.gravity[static_cast<std::size_t>(a)] = g[static_cast<std::size_t>(a)];
   auto& ledger = world.emplace_resource<DemLedger>();
   run.keep("energy", ledger);
-  DemNeighbourList<D>().run(world);
-  DemContactForces<D>().run(world);
-  ledger.last_wall_power = interactions.wall_power;
-  ledger.last_dissipation_power = interactions.dissipation_power;
+  // The lists as they were, so a resumed run rebuilds (and reorders) when the
+  // uninterrupted one would, and the friction springs carry over.
+  run.keep("neighbours", neighbours);
+  if (!run.resuming()) {
+    // A resumed run has its lists, forces and torques from the checkpoint
+    // (evaluating them again would stretch the friction springs twice).
+    DemNeighbourList<D>().run(world);
+    DemContactForces<D>().run(world);
+    ledger.last_wall_power = interactions.wall_power;
+    ledger.last_dissipation_power = interactions.dissipation_power;
+  }
   const double omega = 2.0 * std::numbers::pi * c.real("shaking.frequency");
   run.derive("dt", dt);
   run.derive("contact_time", t_c);

@@ -37,16 +37,17 @@ struct WallContact {
   double rate = 0.0;
 };
 
+// `at` and `speed`: the wall's position and velocity now (w.position(t),
+// w.velocity(t), evaluated once per step for all spheres).
 template <int D>
-GRANFLOW_HD inline WallContact<D> wall_contact(const DemWall& w, const double* x, const double* v, double radius,
-                                               double t) {
+GRANFLOW_HD inline WallContact<D> wall_contact(const DemWall& w, double at, double speed, const double* x,
+                                               const double* v, double radius) {
   WallContact<D> c;
   if (!w.divider) {
-    const double at = w.position(t);
     const double sign = w.side < 0 ? 1.0 : -1.0;
     c.overlap = radius - sign * (x[w.axis] - at);
     c.normal[w.axis] = sign;
-    c.rate = -sign * (v[w.axis] - w.velocity(t));
+    c.rate = -sign * (v[w.axis] - speed);
     return c;
   }
   const double across = x[w.axis] - w.rest;

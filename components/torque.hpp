@@ -1,0 +1,11 @@
+#pragma once
+// The torque on each sphere about its centre from the tangential contact
+// forces, for the next rotational kick.
+#include "components/vector.hpp"
+#include "engine/world.hpp"
+
+namespace granflow {
+struct Torque : Column<Vec<3>> {
+  static constexpr const char* key = "torque";
+};
+}  // namespace granflow
