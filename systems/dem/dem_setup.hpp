@@ -199,8 +199,9 @@ inline void add_dem_step(Run& run, const std::array<double, 3>& box, const std::
   if (friction && c.real("contact.tangential_stiffness") <= 0.0)
     throw ConfigError("contact.tangential_stiffness = 0 with contact.friction > 0: the tangential spring needs a stiffness");
   if (friction && !world.has_component<AngularVelocity>()) {
-    world.add_component<AngularVelocity>();
-    world.add_component<Torque>();
+    // Eigen leaves new vectors unset: the spheres start without spin.
+    for (auto& w : world.add_component<AngularVelocity>().values) w.setZero();
+    for (auto& t : world.add_component<Torque>().values) t.setZero();
   }
   auto& neighbours = world.emplace_resource<NeighbourList<D>>();
   neighbours.skin = skin;

@@ -8,7 +8,9 @@
 // 1e5 steps, and for compressed contacts that never open the bound falls
 // as dt^2 (halving dt quarters it, within 20 %). Neighbour lists never miss
 // a contact an all-pairs search finds; a settled bed stays at rest and the
-// floor carries its weight; the same run on 1 and 2 threads is identical.
+// floor carries its weight; the same run on 1 and 2 threads is identical
+// (with friction and reordering); a sphere on an incline rolls or slides as
+// Coulomb friction says.
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -17,11 +19,13 @@
 #include <memory>
 #include <vector>
 
+#include "components/angular_velocity.hpp"
 #include "components/clock.hpp"
 #include "components/force.hpp"
 #include "components/mass.hpp"
 #include "components/position.hpp"
 #include "components/radius.hpp"
+#include "components/torque.hpp"
 #include "components/velocity.hpp"
 #include "engine/rng.hpp"
 #include "engine/world.hpp"
@@ -56,6 +60,17 @@ struct Spheres {
     world.emplace_resource<DemLedger>();
   }
   DemInteractions<3>& interactions() { return world.resource<DemInteractions<3>>(); }
+  // Coulomb friction mu with the default tangential spring and dashpot: the
+  // spheres rotate, and the lists keep each contact's spring.
+  void enable_friction(double mu) {
+    for (auto& w : world.add_component<AngularVelocity>().values) w.setZero();
+    for (auto& t : world.add_component<Torque>().values) t.setZero();
+    interactions().friction.mu = mu;
+    interactions().friction.dt = dt;
+    auto& nl = world.resource<NeighbourList<3>>();
+    nl.keeps_history = true;
+    nl.walls = interactions().walls.size();
+  }
   Vec<3>& x(std::size_t i) { return world.component<Position<3>>()[i]; }
   Vec<3>& v(std::size_t i) { return world.component<Velocity<3>>()[i]; }
   void set(std::size_t i, Vec<3> position, Vec<3> velocity, double radius, double mass) {
@@ -326,12 +341,69 @@ TEST(DemContact, SameResultOnOneAndTwoThreads) {
     floor.amplitude = 0.1;
     floor.omega = 30;
     s.interactions().walls.push_back(floor);
+    // Friction, rotation and reordering at the rebuilds take part too.
+    s.enable_friction(0.5);
+    s.world.resource<NeighbourList<3>>().reorder = true;
     s.start();
     for (int k = 0; k < 500; ++k) s.advance();
-    return s.world.component<Velocity<3>>().values;
+    auto values = s.world.component<Velocity<3>>().values;
+    for (const auto& w : s.world.component<AngularVelocity>().values) values.push_back(w);
+    return values;
   };
   const auto one = run(1), two = run(2);
   for (std::size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], two[i]) << "sphere " << i;
+}
+
+// A sphere on an inclined plane (gravity tilted by theta against the floor's
+// normal) with Coulomb friction mu: below tan theta = (7/2) mu it rolls
+// without slipping, accelerating at (5/7) g sin theta with its contact
+// point at rest; above, it slides at g (sin theta - mu cos theta) while its
+// spin grows at (5/2) mu g cos theta / r. The acceleration is the slope of a
+// fit to v(t) over 2 time units after the start-up transient has died out
+// (the tangential spring's period is ~0.1); 1 % covers the spring's
+// residual oscillation and the normal overlap's effect on the lever arm
+// (delta / r ~ 1e-4).
+TEST(DemContact, SphereOnAnInclineRollsBelowTheFrictionLimitAndSlidesAbove) {
+  const double mu = 0.2, g = 1.0, radius = 0.5;
+  for (const double tangent : {0.5 * 3.5 * mu, 2.0 * 3.5 * mu}) {
+    const double theta = std::atan(tangent);
+    ContactLaw law;
+    law.stiffness = 1e4;
+    law.damping = ContactLaw::lsd_damping_factor(0.5);
+    Spheres s(1, {1000, 10, 10}, {false, false, false}, law.contact_time(1.0) / 50);
+    const double rest = radius - g * std::cos(theta) / law.stiffness;
+    s.set(0, {1, 5, rest}, {0, 0, 0}, radius, 1.0);
+    s.interactions().law = law;
+    s.interactions().gravity = {g * std::sin(theta), 0, -g * std::cos(theta)};
+    DemWall floor;
+    floor.law = law;
+    s.interactions().walls.push_back(floor);
+    s.enable_friction(mu);
+    s.start();
+    double st = 0, sv = 0, stt = 0, stv = 0, count = 0, slip = 0;
+    const int steps = static_cast<int>(3.0 / s.dt);
+    for (int k = 1; k <= steps; ++k) {
+      s.advance();
+      const double t = k * s.dt;
+      if (t < 1.0) continue;
+      const double v = s.v(0)[0];
+      st += t;
+      sv += v;
+      stt += t * t;
+      stv += t * v;
+      count += 1;
+      // The contact point's velocity: v_x - r w_y (the point sits at -r z).
+      slip = std::max(slip, std::abs(v - radius * s.world.component<AngularVelocity>()[0][1]));
+    }
+    const double a = (count * stv - st * sv) / (count * stt - st * st);
+    const bool rolls = tangent < 3.5 * mu;
+    const double expected = rolls ? 5.0 / 7.0 * g * std::sin(theta) : g * (std::sin(theta) - mu * std::cos(theta));
+    std::printf("incline tan theta = %.2f (limit %.2f): a = %.6f, expected %.6f (%s); largest contact-point speed %.3g\n",
+                tangent, 3.5 * mu, a, expected, rolls ? "rolling" : "sliding", slip);
+    EXPECT_NEAR(a, expected, 0.01 * expected);
+    if (rolls) EXPECT_LT(slip, 1e-3 * a * 3.0);  // at rest against a speed of ~a t
+    else EXPECT_GT(slip, 0.1 * a);
+  }
 }
 
 }  // namespace
