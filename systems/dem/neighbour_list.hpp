@@ -117,6 +117,7 @@ struct NeighbourList : Stateful {
     indices("list", list);
     indices("reverse_offsets", reverse_offsets);
     indices("reverse", reverse);
+    reference.resize(offsets.empty() ? 0 : offsets.size() - 1);
     unflatten_vectors(s.at("reference"), reference, "neighbour-list reference positions");
     for (const char* name : {"shear", "wall_shear"}) {
       const auto& in = s.at(name);
