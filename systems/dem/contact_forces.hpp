@@ -1,16 +1,17 @@
 #pragma once
 // The force (and, with friction, the torque) on every soft sphere: its
-// contacts with the other spheres, with the walls, and gravity. Two
-// parallel passes. The first runs over the pairs of the half neighbour
-// lists, each evaluated once, and keeps each pair's force in a per-pair
-// buffer; without friction this is one branch-free vectorised loop
-// (pair_kernel.hpp). The second gives each sphere its gravity, the pairs it
-// is first in, the reactions of those it is second in (through the reverse
-// lists) and its walls. Every sum runs in a fixed order (no atomics), so
-// the result is the same on any thread count. The same passes book what the
-// energy balance needs at this instant: the energy stored in the springs,
-// the power the dampers and the sliding take and the power the moving walls
-// give, summed per fixed chunk of spheres.
+// contacts with the other spheres, with the walls, and gravity. First, per
+// sphere in parallel, gravity and the walls. Then the pairs of the half
+// neighbour lists, slab by slab (neighbour_list.hpp): each pair is evaluated
+// once and its force given to both spheres; the slabs of one parity run in
+// parallel, since none of them touches the spheres of another. Without
+// friction the pairs of a slab are evaluated by a branch-free vectorised
+// loop (pair_kernel.hpp), a block at a time. Every sum runs in an order
+// fixed by the slabs and the lists (no atomics), so the result is the same
+// on any thread count. The same passes book what the energy balance needs
+// at this instant: the energy stored in the springs, the power the dampers
+// and the sliding take and the power the moving walls give, summed per
+// fixed chunk of spheres and per slab.
 
 #include <tbb/parallel_for.h>
 
@@ -80,44 +81,66 @@ class DemContactForces : public System {
   }
 
  private:
-  // Chunk partial sums: pair elastic, pair dissipated, contacts, wall
-  // elastic, wall dissipated, wall power, wall contacts, then the force
-  // each wall is pressed with.
-  static constexpr std::size_t sums = 7;
+  // Partial sums of each chunk of spheres (walls): elastic, dissipated,
+  // power, contacts, then the force each wall is pressed with; of each slab
+  // (pairs): elastic, dissipated, contacts.
+  static constexpr std::size_t wall_sums = 4, pair_sums = 3;
+  static constexpr std::size_t chunk = 1024;  // spheres
+  static constexpr std::size_t block = 256;   // pairs evaluated together before their forces are handed out
 
   template <bool Friction>
   void evaluate(World& world, DemInteractions<D>& in) {
     const std::size_t n = world.size();
     auto& nl = world.resource<NeighbourList<D>>();
-    const std::size_t chunks = (n + chunk - 1) / chunk;
-    const std::size_t walls = in.walls.size(), width = sums + walls;
-    partial_.assign(width * chunks, 0.0);
-    pair_force_.resize(nl.list.size());
+    const std::size_t chunks = (n + chunk - 1) / chunk, walls = in.walls.size(), width = wall_sums + walls;
+    const std::size_t slabs = nl.slabs.size() - 1;
+    wall_partial_.assign(width * chunks, 0.0);
+    pair_partial_.assign(pair_sums * slabs, 0.0);
     if (!mass_checked_) {
       const auto& mass = world.component<Mass>();
       uniform_mass_ = n > 0 && std::all_of(mass.values.begin(), mass.values.end(), [&](double m) { return m == mass[0]; });
       mass_checked_ = true;
     }
-    if constexpr (Friction) frictional_pairs(world, in, nl, chunks, width);
-    else normal_pairs(world, in, nl, chunks, width);
-    gather(world, in, nl, chunks, width);
-    double total[sums] = {};
+    gravity_and_walls(world, in, nl, chunks, width);
+    // Slabs of one parity at a time: slab s gives forces to s and s + 1
+    // only; along a periodic last axis the first slab also to the last, so
+    // it goes alone, after the others.
+    const std::size_t first_slab = nl.periodic_slabs ? 1 : 0;
+    for (std::size_t parity = 0; parity < 2; ++parity) {
+      const std::size_t begin = first_slab + ((first_slab + parity) % 2 ? 1 : 0);
+      const std::size_t count = begin < slabs ? (slabs - begin + 1) / 2 : 0;
+      tbb::parallel_for(std::size_t{0}, count, [&](std::size_t k) { slab_pairs<Friction>(world, in, nl, begin + 2 * k); });
+    }
+    if (nl.periodic_slabs) slab_pairs<Friction>(world, in, nl, 0);
+    double wall_total[wall_sums] = {}, pair_total[pair_sums] = {};
     in.wall_force.assign(walls, 0.0);
     for (std::size_t k = 0; k < chunks; ++k) {
-      for (std::size_t s = 0; s < sums; ++s) total[s] += partial_[width * k + s];
-      for (std::size_t wi = 0; wi < walls; ++wi) in.wall_force[wi] += partial_[width * k + sums + wi];
+      for (std::size_t s = 0; s < wall_sums; ++s) wall_total[s] += wall_partial_[width * k + s];
+      for (std::size_t wi = 0; wi < walls; ++wi) in.wall_force[wi] += wall_partial_[width * k + wall_sums + wi];
     }
-    in.elastic = total[0] + total[3];
-    in.dissipation_power = total[1] + total[4];
-    in.wall_power = total[5];
-    in.contacts = static_cast<std::uint64_t>(std::llround(total[2]));
-    in.wall_contacts = static_cast<std::uint64_t>(std::llround(total[6]));
+    for (std::size_t k = 0; k < slabs; ++k)
+      for (std::size_t s = 0; s < pair_sums; ++s) pair_total[s] += pair_partial_[pair_sums * k + s];
+    in.elastic = wall_total[0] + pair_total[0];
+    in.dissipation_power = wall_total[1] + pair_total[1];
+    in.wall_power = wall_total[2];
+    in.wall_contacts = static_cast<std::uint64_t>(std::llround(wall_total[3]));
+    in.contacts = static_cast<std::uint64_t>(std::llround(pair_total[2]));
   }
 
-  // Pass 1 without friction: the vectorised kernel over each chunk's pairs.
-  void normal_pairs(World& world, const DemInteractions<D>& in, const NeighbourList<D>& nl, std::size_t chunks,
-                    std::size_t width) {
-    const std::size_t n = world.size();
+  // The pairs of one slab, in order: each pair's force goes to both its spheres.
+  template <bool Friction>
+  void slab_pairs(World& world, const DemInteractions<D>& in, NeighbourList<D>& nl, std::size_t slab) {
+    const std::size_t begin = nl.offsets[nl.slabs[slab]], end = nl.offsets[nl.slabs[slab + 1]];
+    double* out = &pair_partial_[pair_sums * slab];
+    if constexpr (Friction) frictional_pairs(world, in, nl, begin, end, out);
+    else normal_pairs(world, in, nl, begin, end, out);
+  }
+
+  // Without friction: the vectorised kernel over a block of pairs, then the
+  // block's forces handed out.
+  void normal_pairs(World& world, const DemInteractions<D>& in, const NeighbourList<D>& nl, std::size_t begin,
+                    std::size_t end, double* out) {
+    auto& force = world.component<Force<D>>();
     PairSweep<D> sweep;
     sweep.x = world.component<Position<D>>().values.data()->data();
     sweep.v = world.component<Velocity<D>>().values.data()->data();
@@ -131,91 +154,91 @@ class DemContactForces : public System {
       sweep.length[a] = box.length[a];
       sweep.half[a] = half[a];
     }
-    sweep.force = pair_force_.data()->data();
     sweep.law = in.law;
     sweep.uniform_mass = uniform_mass_;
-    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
-      const std::size_t begin = nl.offsets[k * chunk], end = nl.offsets[std::min(n, (k + 1) * chunk)];
-      const PairTotals t = normal_pair_forces(sweep, begin, end);
-      double* out = &partial_[width * k];
-      out[0] = t.elastic;
-      out[1] = t.dissipated;
-      out[2] = t.contacts;
-    });
+    alignas(64) double pair_force[block * D];
+    sweep.force = pair_force;
+    for (std::size_t from = begin; from < end; from += block) {
+      const std::size_t to = std::min(end, from + block);
+      const PairTotals t = normal_pair_forces(sweep, from, to);
+      out[0] += t.elastic;
+      out[1] += t.dissipated;
+      out[2] += t.contacts;
+      for (std::size_t p = from; p < to; ++p) {
+        const double* fp = &pair_force[(p - from) * D];
+        Vec<D>& fi = force[nl.first[p]];
+        Vec<D>& fj = force[nl.list[p]];
+        for (int a = 0; a < D; ++a) {
+          fi[a] += fp[a];
+          fj[a] -= fp[a];
+        }
+      }
+    }
   }
 
-  // Pass 1 with friction (3D): each pair's normal and tangential force and
-  // the torque turn = -n x F_t, which both spheres feel times their radius.
-  void frictional_pairs(World& world, const DemInteractions<D>& in, NeighbourList<D>& nl, std::size_t chunks,
-                        std::size_t width) {
+  // With friction (3D): each pair's normal and tangential force, and the
+  // torque -r n x F_t it gives each of its spheres (with its own radius).
+  void frictional_pairs(World& world, const DemInteractions<D>& in, NeighbourList<D>& nl, std::size_t begin,
+                        std::size_t end, double* out) {
     if constexpr (D == 3) {
       const auto& x = world.component<Position<D>>();
       const auto& v = world.component<Velocity<D>>();
       const auto& radius = world.component<Radius>();
       const auto& mass = world.component<Mass>();
       const auto& omega = world.component<AngularVelocity>();
+      auto& force = world.component<Force<D>>();
+      auto& torque = world.component<Torque>();
       const auto& box = world.resource<DemBox<D>>();
-      const std::size_t n = world.size();
       const ContactLaw law = in.law;
       const TangentialFriction friction = in.friction;
-      pair_torque_.resize(nl.list.size());
-      tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
-        double elastic = 0.0, dissipated = 0.0, contacts = 0.0;
-        const std::size_t end = std::min(n, (k + 1) * chunk);
-        for (std::size_t i = k * chunk; i < end; ++i) {
-          const Vec<D> xi = x[i], vi = v[i];
-          const double ri = radius[i], mi = mass[i];
-          for (std::uint32_t p = nl.offsets[i]; p < nl.offsets[i + 1]; ++p) {
-            const std::uint32_t j = nl.list[p];
-            double d[D], d2 = 0.0;
-            box.separation(xi, x[j], d);
-            for (int a = 0; a < D; ++a) d2 += d[a] * d[a];
-            const double reach = ri + radius[j];
-            if (d2 >= reach * reach) {
-              pair_force_[p].setZero();
-              pair_torque_[p].setZero();
-              nl.shear[p] = Shear{};
-              continue;
-            }
-            const double distance = std::sqrt(d2), inverse = 1.0 / distance;
-            double normal[D], relative[D], rate = 0.0;
-            for (int a = 0; a < D; ++a) {
-              normal[a] = d[a] * inverse;
-              relative[a] = vi[a] - v[j][a];
-              rate -= relative[a] * normal[a];
-            }
-            const double delta = reach - distance;
-            const double m_eff = mi * mass[j] / (mi + mass[j]);
-            const ContactLaw::Result r = law.normal(delta, rate, m_eff);
-            // The contact points' relative velocity: v_i - v_j - (r_i w_i + r_j w_j) x n.
-            const Vec<3> spin = ri * omega[i] + radius[j] * omega[j];
-            const double cv[3] = {relative[0] - (spin[1] * normal[2] - spin[2] * normal[1]),
-                                  relative[1] - (spin[2] * normal[0] - spin[0] * normal[2]),
-                                  relative[2] - (spin[0] * normal[1] - spin[1] * normal[0])};
-            const bool lsd = law.model == ContactModel::lsd;
-            const double k_n = lsd ? law.stiffness : law.stiffness * std::sqrt(delta);
-            const double g_n = lsd ? law.gamma(m_eff) : 1.5 * law.damping * law.stiffness * std::sqrt(delta);
-            const TangentialFriction::Result tr = friction.apply(nl.shear[p], cv, normal, r.force, k_n, g_n);
-            for (int a = 0; a < 3; ++a) pair_force_[p][a] = r.force * normal[a] + tr.force[a];
-            pair_torque_[p] = Vec<3>(-(normal[1] * tr.force[2] - normal[2] * tr.force[1]),
-                                     -(normal[2] * tr.force[0] - normal[0] * tr.force[2]),
-                                     -(normal[0] * tr.force[1] - normal[1] * tr.force[0]));
-            elastic += r.elastic + tr.elastic;
-            dissipated += r.dissipated + tr.dissipated;
-            contacts += 1.0;
-          }
+      for (std::size_t p = begin; p < end; ++p) {
+        const std::uint32_t i = nl.first[p], j = nl.list[p];
+        double d[D], d2 = 0.0;
+        box.separation(x[i], x[j], d);
+        for (int a = 0; a < D; ++a) d2 += d[a] * d[a];
+        const double reach = radius[i] + radius[j];
+        if (d2 >= reach * reach) {
+          nl.shear[p] = Shear{};
+          continue;
         }
-        double* out = &partial_[width * k];
-        out[0] = elastic;
-        out[1] = dissipated;
-        out[2] = contacts;
-      });
+        const double distance = std::sqrt(d2), inverse = 1.0 / distance;
+        double normal[D], relative[D], rate = 0.0;
+        for (int a = 0; a < D; ++a) {
+          normal[a] = d[a] * inverse;
+          relative[a] = v[i][a] - v[j][a];
+          rate -= relative[a] * normal[a];
+        }
+        const double delta = reach - distance;
+        const double m_eff = mass[i] * mass[j] / (mass[i] + mass[j]);
+        const ContactLaw::Result r = law.normal(delta, rate, m_eff);
+        // The contact points' relative velocity: v_i - v_j - (r_i w_i + r_j w_j) x n.
+        const Vec<3> spin = radius[i] * omega[i] + radius[j] * omega[j];
+        const double cv[3] = {relative[0] - (spin[1] * normal[2] - spin[2] * normal[1]),
+                              relative[1] - (spin[2] * normal[0] - spin[0] * normal[2]),
+                              relative[2] - (spin[0] * normal[1] - spin[1] * normal[0])};
+        const bool lsd = law.model == ContactModel::lsd;
+        const double k_n = lsd ? law.stiffness : law.stiffness * std::sqrt(delta);
+        const double g_n = lsd ? law.gamma(m_eff) : 1.5 * law.damping * law.stiffness * std::sqrt(delta);
+        const TangentialFriction::Result tr = friction.apply(nl.shear[p], cv, normal, r.force, k_n, g_n);
+        const Vec<3> fp(r.force * normal[0] + tr.force[0], r.force * normal[1] + tr.force[1],
+                        r.force * normal[2] + tr.force[2]);
+        const Vec<3> turn(-(normal[1] * tr.force[2] - normal[2] * tr.force[1]),
+                          -(normal[2] * tr.force[0] - normal[0] * tr.force[2]),
+                          -(normal[0] * tr.force[1] - normal[1] * tr.force[0]));
+        force[i] += fp;
+        force[j] -= fp;
+        torque[i] += radius[i] * turn;
+        torque[j] += radius[j] * turn;
+        out[0] += r.elastic + tr.elastic;
+        out[1] += r.dissipated + tr.dissipated;
+        out[2] += 1.0;
+      }
     }
   }
 
-  // Pass 2, per sphere: gravity, the pairs it is first in, the reactions of
-  // the pairs it is second in, and its walls.
-  void gather(World& world, const DemInteractions<D>& in, NeighbourList<D>& nl, std::size_t chunks, std::size_t width) {
+  // Per sphere: gravity and the walls start its force (and torque).
+  void gravity_and_walls(World& world, const DemInteractions<D>& in, NeighbourList<D>& nl, std::size_t chunks,
+                         std::size_t width) {
     const double t = world.resource<Clock>().time;
     const auto& x = world.component<Position<D>>();
     const auto& v = world.component<Velocity<D>>();
@@ -235,22 +258,13 @@ class DemContactForces : public System {
     const TangentialFriction friction = in.friction;
     tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
       double elastic = 0.0, dissipated = 0.0, power = 0.0, wall_contacts = 0.0;
-      double* pressing = &partial_[width * k + sums];
+      double* pressing = &wall_partial_[width * k + wall_sums];
       const std::size_t end = std::min(n, (k + 1) * chunk);
       for (std::size_t i = k * chunk; i < end; ++i) {
         const double mi = mass[i], ri = radius[i];
         double f[D];
         for (int a = 0; a < D; ++a) f[a] = mi * in.gravity[a];
-        for (std::uint32_t p = nl.offsets[i]; p < nl.offsets[i + 1]; ++p)
-          for (int a = 0; a < D; ++a) f[a] += pair_force_[p][a];
-        for (std::uint32_t q = nl.reverse_offsets[i]; q < nl.reverse_offsets[i + 1]; ++q)
-          for (int a = 0; a < D; ++a) f[a] -= pair_force_[nl.reverse[q]][a];
         Vec<3> tau = Vec<3>::Zero();
-        if (rotating) {
-          for (std::uint32_t p = nl.offsets[i]; p < nl.offsets[i + 1]; ++p) tau += pair_torque_[p];
-          for (std::uint32_t q = nl.reverse_offsets[i]; q < nl.reverse_offsets[i + 1]; ++q) tau += pair_torque_[nl.reverse[q]];
-          tau *= ri;
-        }
         for (std::size_t wi = 0; wi < walls; ++wi) {
           const DemWall& w = in.walls[wi];
           const WallContact<D> c = wall_contact<D>(w, wall_at_[wi], wall_speed_[wi], x[i].data(), v[i].data(), ri);
@@ -289,18 +303,15 @@ class DemContactForces : public System {
         for (int a = 0; a < D; ++a) force[i][a] = f[a];
         if (rotating) torque[i] = tau;
       }
-      double* out = &partial_[width * k];
-      out[3] = elastic;
-      out[4] = dissipated;
-      out[5] = power;
-      out[6] = wall_contacts;
+      double* out = &wall_partial_[width * k];
+      out[0] = elastic;
+      out[1] = dissipated;
+      out[2] = power;
+      out[3] = wall_contacts;
     });
   }
 
-  static constexpr std::size_t chunk = 1024;
-  std::vector<double> partial_;
-  std::vector<Vec<D>> pair_force_;
-  std::vector<Vec<3>> pair_torque_;
+  std::vector<double> wall_partial_, pair_partial_;
   std::vector<double> wall_at_, wall_speed_;
   bool mass_checked_ = false, uniform_mass_ = false;
 };

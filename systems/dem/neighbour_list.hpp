@@ -1,18 +1,20 @@
 #pragma once
 // Verlet neighbour lists of soft spheres (a World resource and the system
-// that keeps it). Half lists: sphere i lists the spheres after it in cell
-// order whose surfaces are within the skin, so each pair is evaluated once;
-// the reverse lists name, for each sphere, the pairs in which it is the
-// second member, so the force pass can gather every sphere's forces without
-// atomics and in the same order on any thread count. The lists are rebuilt
-// from a cell grid (cells at least one interaction range wide, a counting
-// sort, the 3^D neighbouring cells) only when some sphere has moved more
-// than half the skin since the last build: then no pair can have come into
-// contact unlisted. Rebuilds are counted. At a rebuild the spheres can be
-// put in cell order (World::permute, `reorder`): neighbours then sit close
-// in memory, and a sphere's partners all have larger indices. The
-// tangential-spring history of each contact follows its pair through
-// rebuilds and reorderings.
+// that keeps it). Half lists: each pair of spheres whose surfaces are
+// within the skin is listed once, under the sphere that comes first in cell
+// order. The lists are rebuilt from a cell grid (cells at least one
+// interaction range wide, a counting sort, the 3^D neighbouring cells) only
+// when some sphere has moved more than half the skin since the last build:
+// then no pair can have come into contact unlisted. Rebuilds are counted.
+// At a rebuild the spheres can be put in cell order (World::permute,
+// `reorder`): neighbours then sit close in memory. The lists are stored in
+// cell order and cut into slabs, one layer of cells along the last axis
+// each: a slab's pairs reach only into itself and the next slab (the first
+// slab's also into the last along a periodic axis), so the force pass can
+// give every pair's force to both its spheres, slabs of one parity at a
+// time in parallel, without atomics and in the same order on any thread
+// count. The tangential-spring history of each contact follows its
+// pair through rebuilds and reorderings.
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -91,25 +93,32 @@ struct NeighbourList : Stateful {
   double skin = 0.1;
   bool reorder = false;         // put the spheres in cell order at each build
   bool keeps_history = false;   // carry shear (friction) through rebuilds
-  std::vector<std::uint32_t> offsets;  // sphere i's pairs: p in [offsets[i], offsets[i + 1]), partner list[p]
+  // By rank m in cell order: sphere order[m]'s pairs are p in
+  // [offsets[m], offsets[m + 1]), with partner list[p] (a sphere index).
+  std::vector<std::uint32_t> order;
+  std::vector<std::uint32_t> rank;     // of each sphere
+  std::vector<std::uint32_t> offsets;
   std::vector<std::uint32_t> list;
-  std::vector<std::uint32_t> first;    // per pair: its first sphere (i above), for loops over all pairs
-  std::vector<std::uint32_t> reverse_offsets;  // sphere j's pairs as the second member: reverse[..] in
-  std::vector<std::uint32_t> reverse;          // [reverse_offsets[j], reverse_offsets[j + 1]), increasing
-  std::vector<Vec<D>> reference;               // positions at the last build
-  std::vector<Shear> shear;                    // per pair (when keeps_history)
-  std::vector<Shear> wall_shear;               // per sphere and wall: wall_shear[i * walls + w]
+  std::vector<std::uint32_t> first;    // per pair: its first sphere, order[m] above
+  std::vector<std::uint32_t> slabs;    // slab s holds ranks [slabs[s], slabs[s + 1])
+  bool periodic_slabs = false;         // the first slab's pairs reach into the last
+  std::vector<Vec<D>> reference;       // positions at the last build
+  std::vector<Shear> shear;            // per pair (when keeps_history)
+  std::vector<Shear> wall_shear;       // per sphere and wall: wall_shear[i * walls + w]
   std::size_t walls = 0;
   std::uint64_t builds = 0;
 
   bool built() const { return !offsets.empty(); }
+  // Sphere i's pairs.
+  std::pair<std::uint32_t, std::uint32_t> pairs_of(std::size_t i) const { return {offsets[rank[i]], offsets[rank[i] + 1]}; }
 
   StateMap save_state() const override {
     StateMap s;
+    s["order"].assign(order.begin(), order.end());
     s["offsets"].assign(offsets.begin(), offsets.end());
     s["list"].assign(list.begin(), list.end());
-    s["reverse_offsets"].assign(reverse_offsets.begin(), reverse_offsets.end());
-    s["reverse"].assign(reverse.begin(), reverse.end());
+    s["slabs"].assign(slabs.begin(), slabs.end());
+    s["periodic_slabs"] = {periodic_slabs ? 1.0 : 0.0};
     s["reference"] = flatten_vectors(reference);
     for (const char* name : {"shear", "wall_shear"}) {
       const auto& from = name[0] == 's' ? shear : wall_shear;
@@ -125,11 +134,12 @@ struct NeighbourList : Stateful {
       out.assign(in.size(), 0);
       for (std::size_t k = 0; k < in.size(); ++k) out[k] = static_cast<std::uint32_t>(in[k]);
     };
+    indices("order", order);
     indices("offsets", offsets);
     indices("list", list);
-    indices("reverse_offsets", reverse_offsets);
-    indices("reverse", reverse);
-    reference.resize(offsets.empty() ? 0 : offsets.size() - 1);
+    indices("slabs", slabs);
+    periodic_slabs = s.at("periodic_slabs").at(0) != 0.0;
+    reference.resize(order.size());
     unflatten_vectors(s.at("reference"), reference, "neighbour-list reference positions");
     for (const char* name : {"shear", "wall_shear"}) {
       const auto& in = s.at(name);
@@ -139,11 +149,19 @@ struct NeighbourList : Stateful {
       for (std::size_t k = 0; k < to.size(); ++k) to[k] = {in[3 * k], in[3 * k + 1], in[3 * k + 2]};
     }
     builds = static_cast<std::uint64_t>(s.at("builds").at(0));
-    if (offsets.size() != reference.size() + 1 || list.size() != offsets.back() || reverse.size() != list.size())
+    if (offsets.size() != order.size() + 1 || list.size() != offsets.back() || slabs.empty() ||
+        slabs.back() != order.size())
       throw std::invalid_argument("checkpoint neighbour lists are inconsistent");
+    derive();
+  }
+  // rank and first, from order and offsets.
+  void derive() {
+    rank.resize(order.size());
     first.resize(list.size());
-    for (std::size_t i = 0; i + 1 < offsets.size(); ++i)
-      std::fill(first.begin() + offsets[i], first.begin() + offsets[i + 1], static_cast<std::uint32_t>(i));
+    for (std::size_t m = 0; m < order.size(); ++m) {
+      rank[order[m]] = static_cast<std::uint32_t>(m);
+      std::fill(first.begin() + offsets[m], first.begin() + offsets[m + 1], order[m]);
+    }
   }
 };
 
@@ -228,6 +246,7 @@ class DemNeighbourList : public System {
     NeighbourList<D> previous;
     std::vector<std::uint32_t> was;  // was[new index] = index at the previous build's end
     if (nl.keeps_history && nl.built()) {
+      previous.rank.swap(nl.rank);
       previous.offsets.swap(nl.offsets);
       previous.list.swap(nl.list);
       previous.shear.swap(nl.shear);
@@ -239,27 +258,34 @@ class DemNeighbourList : public System {
     }
     const auto& x = world.component<Position<D>>();
     const auto& radius = world.component<Radius>();
-    // The spheres' rank in cell order, and their positions, radii and cells
-    // by rank: the candidates of a cell are then contiguous.
-    std::vector<std::uint32_t> rank(n), sorted_cell(n);
+    // The spheres by rank: their index, position, radius and cell; the
+    // candidates of a cell are then contiguous.
+    nl.order.resize(n);
+    nl.rank.resize(n);
+    std::vector<std::uint32_t> sorted_cell(n);
     std::vector<std::array<double, D + 1>> sorted(n);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
       for (std::size_t m = r.begin(); m != r.end(); ++m) {
         const std::uint32_t i = nl.reorder ? static_cast<std::uint32_t>(m) : members[m];
-        if (nl.reorder) members[m] = i;
-        rank[i] = static_cast<std::uint32_t>(m);
+        nl.order[m] = i;
+        nl.rank[i] = static_cast<std::uint32_t>(m);
         sorted_cell[m] = cell[was.empty() ? i : was[m]];
         for (int k = 0; k < D; ++k) sorted[m][k] = x[i][k];
         sorted[m][D] = radius[i];
       }
     });
+    // One slab per layer of cells along the last axis.
+    const std::size_t layers = static_cast<std::size_t>(cells[D - 1]);
+    nl.slabs.resize(layers + 1);
+    for (std::size_t s = 0; s <= layers; ++s) nl.slabs[s] = start[s * stride[D - 1]];
+    nl.periodic_slabs = box.periodic[D - 1] && layers > 1;
     const std::array<double, D> half = box.half_periods();
     const double skin = nl.skin;
-    // Sphere i's partners: the spheres later in cell order within reach.
-    // Only cells at or after its own hold them: a pair of neighbouring cells
-    // is searched from the earlier one, the pairs of one cell by rank.
-    const auto visit = [&](std::size_t i, std::vector<std::uint32_t>& out) {
-      const std::uint32_t m = rank[i];
+    // The partners of the sphere of rank m: the spheres later in cell order
+    // within reach. Only cells at or after its own hold them: a pair of
+    // neighbouring cells is searched from the earlier one, the pairs of one
+    // cell by rank.
+    const auto visit = [&](std::uint32_t m, std::vector<std::uint32_t>& out) {
       const std::size_t home = sorted_cell[m];
       // Along each axis the (at most three) neighbouring cell coordinates, as index terms.
       std::array<std::array<std::size_t, 3>, D> term{};
@@ -306,12 +332,12 @@ class DemNeighbourList : public System {
             d2 += d * d;
           }
           const double reach = me[D] + other[D] + skin;
-          slot[filled] = members[q];
+          slot[filled] = nl.order[q];
           filled += d2 < reach * reach;
         }
       out.resize(filled);
     };
-    // One pass: each fixed chunk of spheres lists its partners in its own
+    // One pass: each fixed chunk of ranks lists its partners in its own
     // buffer; the chunks are then joined in order (the same list on any
     // thread count).
     constexpr std::size_t chunk = 256;
@@ -322,35 +348,24 @@ class DemNeighbourList : public System {
       auto& piece = pieces[q];
       piece.reserve(8 * chunk);
       const std::size_t end = std::min(n, (q + 1) * chunk);
-      for (std::size_t i = q * chunk; i < end; ++i) {
+      for (std::size_t m = q * chunk; m < end; ++m) {
         const std::size_t before = piece.size();
-        visit(i, piece);
-        nl.offsets[i + 1] = static_cast<std::uint32_t>(piece.size() - before);
+        visit(static_cast<std::uint32_t>(m), piece);
+        nl.offsets[m + 1] = static_cast<std::uint32_t>(piece.size() - before);
       }
     });
-    for (std::size_t i = 0; i < n; ++i) nl.offsets[i + 1] += nl.offsets[i];
+    for (std::size_t m = 0; m < n; ++m) nl.offsets[m + 1] += nl.offsets[m];
     nl.list.resize(nl.offsets[n]);
     nl.first.resize(nl.offsets[n]);
     tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t q) {
       std::copy(pieces[q].begin(), pieces[q].end(), nl.list.begin() + nl.offsets[q * chunk]);
       const std::size_t end = std::min(n, (q + 1) * chunk);
-      for (std::size_t i = q * chunk; i < end; ++i)
-        std::fill(nl.first.begin() + nl.offsets[i], nl.first.begin() + nl.offsets[i + 1], static_cast<std::uint32_t>(i));
+      for (std::size_t m = q * chunk; m < end; ++m)
+        std::fill(nl.first.begin() + nl.offsets[m], nl.first.begin() + nl.offsets[m + 1], nl.order[m]);
     });
-    build_reverse(nl, n);
     if (nl.keeps_history) carry_history(nl, previous, was, n);
     nl.reference.assign(x.values.begin(), x.values.end());
     ++nl.builds;
-  }
-
-  // The reverse lists: a counting sort of the pairs by their second member.
-  static void build_reverse(NeighbourList<D>& nl, std::size_t n) {
-    nl.reverse_offsets.assign(n + 1, 0);
-    for (std::uint32_t j : nl.list) ++nl.reverse_offsets[j + 1];
-    for (std::size_t j = 0; j < n; ++j) nl.reverse_offsets[j + 1] += nl.reverse_offsets[j];
-    nl.reverse.resize(nl.list.size());
-    std::vector<std::uint32_t> next(nl.reverse_offsets.begin(), nl.reverse_offsets.end() - 1);
-    for (std::uint32_t p = 0; p < nl.list.size(); ++p) nl.reverse[next[nl.list[p]]++] = p;
   }
 
  private:
@@ -365,7 +380,8 @@ class DemNeighbourList : public System {
     // The pair (a, b) was listed under a or under b; its shear is that of
     // its first sphere.
     const auto find = [&](std::uint32_t a, std::uint32_t b, Shear& h) {
-      for (std::uint32_t q = previous.offsets[a]; q < previous.offsets[a + 1]; ++q)
+      const auto [begin, end] = previous.pairs_of(a);
+      for (std::uint32_t q = begin; q < end; ++q)
         if (previous.list[q] == b) {
           h = previous.shear[q];
           return true;
@@ -376,7 +392,8 @@ class DemNeighbourList : public System {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         const std::uint32_t a = old_index(i);
         for (std::size_t w = 0; w < nl.walls; ++w) nl.wall_shear[i * nl.walls + w] = previous.wall_shear[a * nl.walls + w];
-        for (std::uint32_t p = nl.offsets[i]; p < nl.offsets[i + 1]; ++p) {
+        const auto [begin, end] = nl.pairs_of(i);
+        for (std::uint32_t p = begin; p < end; ++p) {
           const std::uint32_t b = old_index(nl.list[p]);
           Shear h{};
           if (find(a, b, h)) {

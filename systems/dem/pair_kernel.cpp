@@ -52,10 +52,14 @@ PairTotals sweep_pairs(const PairSweep<D>& s, std::size_t begin, std::size_t end
       r = law.hertz(touching ? delta : 0.0, rate);
     }
     const double magnitude = touching ? r.force * inverse : 0.0;
-    for (int a = 0; a < D; ++a) force[p * D + a] = magnitude * d[a];
-    elastic += touching ? r.elastic : 0.0;
-    dissipated += touching ? r.dissipated : 0.0;
-    contacts += touching ? 1.0 : 0.0;
+    for (int a = 0; a < D; ++a) force[(p - begin) * D + a] = magnitude * d[a];
+    // Weighted rather than selected: GCC 12 vectorises a selected sum under
+    // the simd pragma with -march=native into wrong totals
+    // (tests/systems/dem/pair_kernel_test.cpp).
+    const double weight = touching ? 1.0 : 0.0;
+    elastic += weight * r.elastic;
+    dissipated += weight * r.dissipated;
+    contacts += weight;
   }
   return {elastic, dissipated, contacts};
 }

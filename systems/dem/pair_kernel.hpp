@@ -3,8 +3,8 @@
 // own translation unit (systems/dem/pair_kernel.cpp) with the flags that let
 // the compiler turn the loop into vector code: one branch-free pass over the
 // pairs of the half neighbour lists, the pair's two spheres gathered by
-// index, the force stored per pair (D doubles, so the force pass reads a
-// pair's force from one cache line). Out of contact a pair's force is zero. Each pair's force
+// index, the force stored per pair (D doubles, from force[0] for the
+// range's first pair). Out of contact a pair's force is zero. Each pair's force
 // is the same whatever the vector width; the energy sums of a range are
 // added in an order that depends on it, never on the thread count.
 
@@ -27,7 +27,7 @@ struct PairSweep {
   double half[D] = {};    // half its length along periodic axes, infinity along the others (nearest_image)
   ContactLaw law;
   bool uniform_mass = false;  // every sphere has mass[0]: one reduced mass for all pairs
-  double* force = nullptr;    // D per pair: the force on the first sphere
+  double* force = nullptr;    // D per pair of the range: the force on the first sphere
 };
 
 struct PairTotals {

@@ -267,8 +267,8 @@ TEST(DemContact, NeighbourListsFindEveryContactAllPairsFinds) {
           if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= reach * reach) continue;
           // Half lists: the pair is listed once, under the one of the two that comes first in cell order.
           int listed = 0;
-          for (std::uint32_t q = nl.offsets[i]; q < nl.offsets[i + 1]; ++q) listed += nl.list[q] == j;
-          for (std::uint32_t q = nl.offsets[j]; q < nl.offsets[j + 1]; ++q) listed += nl.list[q] == i;
+          for (auto [q, end] = nl.pairs_of(i); q < end; ++q) listed += nl.list[q] == j;
+          for (auto [q, end] = nl.pairs_of(j); q < end; ++q) listed += nl.list[q] == i;
           ASSERT_EQ(listed, 1) << "reorder " << reorder << ", step " << step << ": contact " << i << "-" << j
                                << " listed " << listed << " times";
         }
