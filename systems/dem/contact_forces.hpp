@@ -101,7 +101,7 @@ class DemContactForces : public System {
       uniform_mass_ = n > 0 && std::all_of(mass.values.begin(), mass.values.end(), [&](double m) { return m == mass[0]; });
       mass_checked_ = true;
     }
-    gravity_and_walls(world, in, nl, chunks, width);
+    gravity_and_walls<Friction>(world, in, nl, chunks, width);
     // Slabs of one parity at a time: slab s gives forces to s and s + 1
     // only; along a periodic last axis the first slab also to the last, so
     // it goes alone, after the others.
@@ -237,6 +237,7 @@ class DemContactForces : public System {
   }
 
   // Per sphere: gravity and the walls start its force (and torque).
+  template <bool Rotating>
   void gravity_and_walls(World& world, const DemInteractions<D>& in, NeighbourList<D>& nl, std::size_t chunks,
                          std::size_t width) {
     const double t = world.resource<Clock>().time;
@@ -245,7 +246,7 @@ class DemContactForces : public System {
     const auto& radius = world.component<Radius>();
     const auto& mass = world.component<Mass>();
     auto& force = world.component<Force<D>>();
-    const bool rotating = D == 3 && in.friction.active();
+    constexpr bool rotating = D == 3 && Rotating;
     [[maybe_unused]] const Vec<3>* omega = rotating ? world.component<AngularVelocity>().values.data() : nullptr;
     Vec<3>* torque = rotating ? world.component<Torque>().values.data() : nullptr;
     const std::size_t n = world.size(), walls = in.walls.size();
@@ -269,7 +270,7 @@ class DemContactForces : public System {
           const DemWall& w = in.walls[wi];
           const WallContact<D> c = wall_contact<D>(w, wall_at_[wi], wall_speed_[wi], x[i].data(), v[i].data(), ri);
           if (c.overlap <= 0.0) {
-            if (rotating) nl.wall_shear[i * walls + wi] = Shear{};
+            if constexpr (rotating) nl.wall_shear[i * walls + wi] = Shear{};
             continue;
           }
           const ContactLaw::Result r = w.law.normal(c.overlap, c.rate, mi);
@@ -279,8 +280,7 @@ class DemContactForces : public System {
           if (!w.divider) power += r.force * c.normal[w.axis] * wall_speed_[wi];
           pressing[wi] += r.force;
           wall_contacts += 1.0;
-          if constexpr (D == 3) {
-            if (!rotating) continue;
+          if constexpr (rotating) {
             // The sphere's contact point relative to the wall, which moves along its normal only.
             const Vec<3>& o = omega[i];
             const Vec<D>& vi = v[i];
@@ -301,7 +301,7 @@ class DemContactForces : public System {
           }
         }
         for (int a = 0; a < D; ++a) force[i][a] = f[a];
-        if (rotating) torque[i] = tau;
+        if constexpr (rotating) torque[i] = tau;
       }
       double* out = &wall_partial_[width * k];
       out[0] = elastic;
