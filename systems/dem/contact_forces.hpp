@@ -97,8 +97,11 @@ class DemContactForces : public System {
     wall_partial_.assign(width * chunks, 0.0);
     pair_partial_.assign(pair_sums * slabs, 0.0);
     if (!mass_checked_) {
+      // Masses and radii are constants of a run.
       const auto& mass = world.component<Mass>();
+      const auto& radius = world.component<Radius>();
       uniform_mass_ = n > 0 && std::all_of(mass.values.begin(), mass.values.end(), [&](double m) { return m == mass[0]; });
+      same_radius_ = n > 0 && std::all_of(radius.values.begin(), radius.values.end(), [&](double r) { return r == radius[0]; });
       mass_checked_ = true;
     }
     gravity_and_walls<Friction>(world, in, nl, chunks, width);
@@ -156,6 +159,7 @@ class DemContactForces : public System {
     }
     sweep.law = in.law;
     sweep.uniform_mass = uniform_mass_;
+    sweep.same_radius = same_radius_;
     alignas(64) double pair_force[block * D];
     sweep.force = pair_force;
     for (std::size_t from = begin; from < end; from += block) {
@@ -164,15 +168,26 @@ class DemContactForces : public System {
       out[0] += t.elastic;
       out[1] += t.dissipated;
       out[2] += t.contacts;
+      // A sphere's pairs are consecutive: their forces on it are summed
+      // apart and added once (a store and reload per pair would chain them).
+      std::uint32_t current = nl.first[from];
+      double sum[D] = {};
       for (std::size_t p = from; p < to; ++p) {
         const double* fp = &pair_force[(p - from) * D];
-        Vec<D>& fi = force[nl.first[p]];
+        if (nl.first[p] != current) {
+          for (int a = 0; a < D; ++a) {
+            force[current][a] += sum[a];
+            sum[a] = 0.0;
+          }
+          current = nl.first[p];
+        }
         Vec<D>& fj = force[nl.list[p]];
         for (int a = 0; a < D; ++a) {
-          fi[a] += fp[a];
+          sum[a] += fp[a];
           fj[a] -= fp[a];
         }
       }
+      for (int a = 0; a < D; ++a) force[current][a] += sum[a];
     }
   }
 
@@ -313,7 +328,7 @@ class DemContactForces : public System {
 
   std::vector<double> wall_partial_, pair_partial_;
   std::vector<double> wall_at_, wall_speed_;
-  bool mass_checked_ = false, uniform_mass_ = false;
+  bool mass_checked_ = false, uniform_mass_ = false, same_radius_ = false;
 };
 
 }  // namespace granflow::dem

@@ -13,7 +13,9 @@ enum class Law { uniform_lsd, lsd, hertz };
 // Every pair is evaluated as if in contact and the result selected by the
 // overlap: a branch on it would be mispredicted for a third of the pairs of
 // a dense bed, and the selection lets the loop be vectorised.
-template <int D, Law law_kind>
+// With one radius (same_radius) every pair has the same reach, and two
+// gathers per pair fewer.
+template <int D, Law law_kind, bool same_radius>
 PairTotals sweep_pairs(const PairSweep<D>& s, std::size_t begin, std::size_t end) {
   const double* const x = s.x;
   const double* const v = s.v;
@@ -39,7 +41,7 @@ PairTotals sweep_pairs(const PairSweep<D>& s, std::size_t begin, std::size_t end
       d2 += d[a] * d[a];
       closing += (v[i * D + a] - v[j * D + a]) * d[a];
     }
-    const double reach = radius[i] + radius[j];
+    const double reach = same_radius ? 2.0 * radius[0] : radius[i] + radius[j];
     const bool touching = d2 < reach * reach;
     const double distance = std::sqrt(d2), inverse = 1.0 / distance;
     const double delta = reach - distance, rate = -closing * inverse;
@@ -68,9 +70,14 @@ PairTotals sweep_pairs(const PairSweep<D>& s, std::size_t begin, std::size_t end
 
 template <int D>
 PairTotals normal_pair_forces(const PairSweep<D>& sweep, std::size_t begin, std::size_t end) {
-  if (sweep.law.model == ContactModel::hertz) return sweep_pairs<D, Law::hertz>(sweep, begin, end);
-  if (sweep.uniform_mass) return sweep_pairs<D, Law::uniform_lsd>(sweep, begin, end);
-  return sweep_pairs<D, Law::lsd>(sweep, begin, end);
+  const bool one_radius = sweep.same_radius;
+  if (sweep.law.model == ContactModel::hertz)
+    return one_radius ? sweep_pairs<D, Law::hertz, true>(sweep, begin, end)
+                      : sweep_pairs<D, Law::hertz, false>(sweep, begin, end);
+  if (sweep.uniform_mass)
+    return one_radius ? sweep_pairs<D, Law::uniform_lsd, true>(sweep, begin, end)
+                      : sweep_pairs<D, Law::uniform_lsd, false>(sweep, begin, end);
+  return one_radius ? sweep_pairs<D, Law::lsd, true>(sweep, begin, end) : sweep_pairs<D, Law::lsd, false>(sweep, begin, end);
 }
 
 template PairTotals normal_pair_forces<2>(const PairSweep<2>&, std::size_t, std::size_t);

@@ -27,6 +27,7 @@ struct PairSweep {
   double half[D] = {};    // half its length along periodic axes, infinity along the others (nearest_image)
   ContactLaw law;
   bool uniform_mass = false;  // every sphere has mass[0]: one reduced mass for all pairs
+  bool same_radius = false;   // every sphere has radius[0]
   double* force = nullptr;    // D per pair of the range: the force on the first sphere
 };
 

@@ -1,7 +1,7 @@
 // The vectorised pair kernel against the contact law evaluated pair by pair
 // (contact_law.hpp, scalar): every pair's force and the totals of elastic
-// energy, dissipation and contacts, for the three laws (one mass, mixed
-// masses, Hertz), across a periodic boundary, and for ranges that start and
+// energy, dissipation and contacts, for the spring-dashpot and Hertz, equal
+// and unequal spheres, across a periodic boundary, and for ranges that start and
 // end anywhere (the vector loop's remainders). Tolerance 1e-12 relative:
 // only the order of the sums differs.
 
@@ -23,13 +23,13 @@ struct Pairs {
   std::vector<double> x, v, radius, mass;
   std::vector<std::uint32_t> first, second;
 
-  Pairs(std::size_t n, bool mixed_masses) {
+  Pairs(std::size_t n, bool polydisperse) {
     for (std::size_t i = 0; i < n; ++i) {
       Philox random(7, 8, 9, i);
       for (int a = 0; a < 3; ++a) x.push_back(side * random.uniform());
       for (int a = 0; a < 3; ++a) v.push_back(random.normal());
-      radius.push_back(0.4 + 0.2 * random.uniform());
-      mass.push_back(mixed_masses ? 0.5 + random.uniform() : 1.0);
+      radius.push_back(polydisperse ? 0.4 + 0.2 * random.uniform() : 0.5);
+      mass.push_back(polydisperse ? 0.5 + random.uniform() : 1.0);
     }
     // Every pair within 1.3 (the lists' reach with a skin): about half in contact.
     for (std::uint32_t i = 0; i < n; ++i)
@@ -53,8 +53,10 @@ struct Pairs {
   }
 };
 
-void expect_kernel_matches_law(const ContactLaw& law, bool mixed_masses) {
-  const Pairs pairs(300, mixed_masses);
+// polydisperse: radii and masses differ (else the kernel's one-radius,
+// one-mass path).
+void expect_kernel_matches_law(const ContactLaw& law, bool polydisperse) {
+  const Pairs pairs(300, polydisperse);
   ASSERT_GT(pairs.first.size(), 200u);
   PairSweep<3> sweep;
   sweep.x = pairs.x.data();
@@ -67,7 +69,8 @@ void expect_kernel_matches_law(const ContactLaw& law, bool mixed_masses) {
   sweep.half[0] = 0.5 * Pairs::side;
   sweep.half[1] = sweep.half[2] = INFINITY;
   sweep.law = law;
-  sweep.uniform_mass = !mixed_masses;
+  sweep.uniform_mass = !polydisperse;
+  sweep.same_radius = !polydisperse;
   const std::size_t count = pairs.first.size();
   // The reference, pair by pair.
   std::vector<double> expected(3 * count, 0.0);
@@ -112,14 +115,14 @@ void expect_kernel_matches_law(const ContactLaw& law, bool mixed_masses) {
   EXPECT_NEAR(total.dissipated, dissipated, 1e-12 * dissipated);
 }
 
-TEST(PairKernel, SpringDashpotWithOneMassMatchesTheLaw) {
+TEST(PairKernel, SpringDashpotOfEqualSpheresMatchesTheLaw) {
   ContactLaw law;
   law.stiffness = 2000.0;
   law.damping = ContactLaw::lsd_damping_factor(0.5);
   expect_kernel_matches_law(law, false);
 }
 
-TEST(PairKernel, SpringDashpotWithMixedMassesMatchesTheLaw) {
+TEST(PairKernel, SpringDashpotOfUnequalSpheresMatchesTheLaw) {
   ContactLaw law;
   law.stiffness = 2000.0;
   law.damping = ContactLaw::lsd_damping_factor(0.3);
@@ -132,6 +135,7 @@ TEST(PairKernel, HertzMatchesTheLaw) {
   law.stiffness = 5000.0;
   law.damping = 1e-3;
   expect_kernel_matches_law(law, true);
+  expect_kernel_matches_law(law, false);
 }
 
 }  // namespace
