@@ -1,7 +1,8 @@
 #pragma once
 // The force (and, with friction, the torque) on every soft sphere: its
-// contacts with the other spheres, with the walls, and gravity. First, per
-// sphere in parallel, gravity and the walls. Then the pairs of the half
+// contacts with the other spheres, with the walls, and gravity. First
+// gravity, then each wall with the spheres that can reach it before the
+// next list build (found at each build). Then the pairs of the half
 // neighbour lists, slab by slab (neighbour_list.hpp): each pair is evaluated
 // once and its force given to both spheres; the slabs of one parity run in
 // parallel, since none of them touches the spheres of another. Without
@@ -11,7 +12,7 @@
 // on any thread count. The same passes book what the energy balance needs
 // at this instant: the energy stored in the springs, the power the dampers
 // and the sliding take and the power the moving walls give, summed per
-// fixed chunk of spheres and per slab.
+// fixed chunk of a wall's candidates and per slab.
 
 #include <tbb/parallel_for.h>
 
@@ -81,10 +82,10 @@ class DemContactForces : public System {
   }
 
  private:
-  // Partial sums of each chunk of spheres (walls): elastic, dissipated,
-  // power, contacts, then the force each wall is pressed with; of each slab
+  // Partial sums of each chunk of a wall's candidates: elastic, dissipated,
+  // power, contacts, the force the wall is pressed with; of each slab
   // (pairs): elastic, dissipated, contacts.
-  static constexpr std::size_t wall_sums = 4, pair_sums = 3;
+  static constexpr std::size_t wall_sums = 5, pair_sums = 3;
   static constexpr std::size_t chunk = 1024;  // spheres
   static constexpr std::size_t block = 256;   // pairs evaluated together before their forces are handed out
 
@@ -92,9 +93,8 @@ class DemContactForces : public System {
   void evaluate(World& world, DemInteractions<D>& in) {
     const std::size_t n = world.size();
     auto& nl = world.resource<NeighbourList<D>>();
-    const std::size_t chunks = (n + chunk - 1) / chunk, walls = in.walls.size(), width = wall_sums + walls;
+    const std::size_t walls = in.walls.size();
     const std::size_t slabs = nl.slabs.size() - 1;
-    wall_partial_.assign(width * chunks, 0.0);
     pair_partial_.assign(pair_sums * slabs, 0.0);
     if (!mass_checked_) {
       // Masses and radii are constants of a run.
@@ -104,7 +104,9 @@ class DemContactForces : public System {
       same_radius_ = n > 0 && std::all_of(radius.values.begin(), radius.values.end(), [&](double r) { return r == radius[0]; });
       mass_checked_ = true;
     }
-    gravity_and_walls<Friction>(world, in, nl, chunks, width);
+    gravity(world);
+    if (candidates_of_build_ != nl.builds || wall_candidates_.size() != walls) find_wall_candidates(world, in, nl);
+    walls_on_candidates<Friction>(world, in, nl);
     // Slabs of one parity at a time: slab s gives forces to s and s + 1
     // only; along a periodic last axis the first slab also to the last, so
     // it goes alone, after the others.
@@ -117,10 +119,11 @@ class DemContactForces : public System {
     if (nl.periodic_slabs) slab_pairs<Friction>(world, in, nl, 0);
     double wall_total[wall_sums] = {}, pair_total[pair_sums] = {};
     in.wall_force.assign(walls, 0.0);
-    for (std::size_t k = 0; k < chunks; ++k) {
-      for (std::size_t s = 0; s < wall_sums; ++s) wall_total[s] += wall_partial_[width * k + s];
-      for (std::size_t wi = 0; wi < walls; ++wi) in.wall_force[wi] += wall_partial_[width * k + wall_sums + wi];
-    }
+    for (std::size_t wi = 0; wi < walls; ++wi)
+      for (std::size_t k = 0; k < wall_partial_[wi].size(); k += wall_sums) {
+        for (std::size_t s = 0; s < wall_sums - 1; ++s) wall_total[s] += wall_partial_[wi][k + s];
+        in.wall_force[wi] += wall_partial_[wi][k + wall_sums - 1];
+      }
     for (std::size_t k = 0; k < slabs; ++k)
       for (std::size_t s = 0; s < pair_sums; ++s) pair_total[s] += pair_partial_[pair_sums * k + s];
     in.elastic = wall_total[0] + pair_total[0];
@@ -251,10 +254,50 @@ class DemContactForces : public System {
     }
   }
 
-  // Per sphere: gravity and the walls start its force (and torque).
+  // Every sphere's force starts with its weight (and its torque at zero).
+  void gravity(World& world) {
+    const auto& in = world.resource<DemInteractions<D>>();
+    const auto& mass = world.component<Mass>();
+    double* const f = world.component<Force<D>>().values.data()->data();
+    Vec<3>* torque = world.has_component<Torque>() ? world.component<Torque>().values.data() : nullptr;
+    std::array<double, D> g{};
+    for (int a = 0; a < D; ++a) g[a] = in.gravity[a];
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 4096), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+        for (int a = 0; a < D; ++a) f[i * D + static_cast<std::size_t>(a)] = mass[i] * g[a];
+      if (torque)
+        for (std::size_t i = range.begin(); i != range.end(); ++i) torque[i].setZero();
+    });
+  }
+
+  // The spheres that can touch each wall before the next list build: those
+  // within their radius and the skin of where the wall can be at the last
+  // build (between builds no sphere moves as much as half the skin). Found
+  // at every build; the others' wall springs are zero (they do not touch).
+  void find_wall_candidates(World& world, const DemInteractions<D>& in, NeighbourList<D>& nl) {
+    const auto& radius = world.component<Radius>();
+    const std::size_t n = world.size(), walls = in.walls.size();
+    wall_candidates_.assign(walls, {});
+    for (std::size_t wi = 0; wi < walls; ++wi) {
+      const DemWall& w = in.walls[wi];
+      auto& list = wall_candidates_[wi];
+      for (std::size_t i = 0; i < n; ++i) {
+        const double reach = radius[i] + nl.skin, along = nl.reference[i][w.axis];
+        bool near;
+        if (w.divider) near = std::abs(along - w.rest) < reach;
+        else if (w.side < 0) near = along < w.rest + std::abs(w.amplitude) + reach;
+        else near = along > w.rest - std::abs(w.amplitude) - reach;
+        if (near) list.push_back(static_cast<std::uint32_t>(i));
+        else if (!nl.wall_shear.empty()) nl.wall_shear[i * walls + wi] = Shear{};
+      }
+    }
+    candidates_of_build_ = nl.builds;
+  }
+
+  // Each wall's contacts with its candidates, one wall after another (a
+  // sphere may touch two), each wall's candidates in parallel chunks.
   template <bool Rotating>
-  void gravity_and_walls(World& world, const DemInteractions<D>& in, NeighbourList<D>& nl, std::size_t chunks,
-                         std::size_t width) {
+  void walls_on_candidates(World& world, const DemInteractions<D>& in, NeighbourList<D>& nl) {
     const double t = world.resource<Clock>().time;
     const auto& x = world.component<Position<D>>();
     const auto& v = world.component<Velocity<D>>();
@@ -263,72 +306,67 @@ class DemContactForces : public System {
     auto& force = world.component<Force<D>>();
     constexpr bool rotating = D == 3 && Rotating;
     [[maybe_unused]] const Vec<3>* omega = rotating ? world.component<AngularVelocity>().values.data() : nullptr;
-    Vec<3>* torque = rotating ? world.component<Torque>().values.data() : nullptr;
-    const std::size_t n = world.size(), walls = in.walls.size();
-    wall_at_.resize(walls);
-    wall_speed_.resize(walls);
-    for (std::size_t wi = 0; wi < walls; ++wi) {
-      wall_at_[wi] = in.walls[wi].position(t);
-      wall_speed_[wi] = in.walls[wi].velocity(t);
-    }
+    [[maybe_unused]] Vec<3>* torque = rotating ? world.component<Torque>().values.data() : nullptr;
+    const std::size_t walls = in.walls.size();
     const TangentialFriction friction = in.friction;
-    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
-      double elastic = 0.0, dissipated = 0.0, power = 0.0, wall_contacts = 0.0;
-      double* pressing = &wall_partial_[width * k + wall_sums];
-      const std::size_t end = std::min(n, (k + 1) * chunk);
-      for (std::size_t i = k * chunk; i < end; ++i) {
-        const double mi = mass[i], ri = radius[i];
-        double f[D];
-        for (int a = 0; a < D; ++a) f[a] = mi * in.gravity[a];
-        Vec<3> tau = Vec<3>::Zero();
-        for (std::size_t wi = 0; wi < walls; ++wi) {
-          const DemWall& w = in.walls[wi];
-          const WallContact<D> c = wall_contact<D>(w, wall_at_[wi], wall_speed_[wi], x[i].data(), v[i].data(), ri);
-          if (c.overlap <= 0.0) {
+    wall_partial_.resize(walls);
+    for (std::size_t wi = 0; wi < walls; ++wi) {
+      const DemWall& w = in.walls[wi];
+      const double at = w.position(t), speed = w.velocity(t);
+      const auto& list = wall_candidates_[wi];
+      const std::size_t chunks = (list.size() + chunk - 1) / chunk;
+      auto& partial = wall_partial_[wi];
+      partial.assign(wall_sums * chunks, 0.0);
+      tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
+        double* out = &partial[wall_sums * k];
+        const std::size_t end = std::min(list.size(), (k + 1) * chunk);
+        for (std::size_t c = k * chunk; c < end; ++c) {
+          const std::uint32_t i = list[c];
+          const double mi = mass[i], ri = radius[i];
+          const WallContact<D> contact = wall_contact<D>(w, at, speed, x[i].data(), v[i].data(), ri);
+          if (contact.overlap <= 0.0) {
             if constexpr (rotating) nl.wall_shear[i * walls + wi] = Shear{};
             continue;
           }
-          const ContactLaw::Result r = w.law.normal(c.overlap, c.rate, mi);
-          for (int a = 0; a < D; ++a) f[a] += r.force * c.normal[a];
-          elastic += r.elastic;
-          dissipated += r.dissipated;
-          if (!w.divider) power += r.force * c.normal[w.axis] * wall_speed_[wi];
-          pressing[wi] += r.force;
-          wall_contacts += 1.0;
+          const ContactLaw::Result r = w.law.normal(contact.overlap, contact.rate, mi);
+          for (int a = 0; a < D; ++a) force[i][a] += r.force * contact.normal[a];
+          out[0] += r.elastic;
+          out[1] += r.dissipated;
+          if (!w.divider) out[2] += r.force * contact.normal[w.axis] * speed;
+          out[3] += 1.0;
+          out[4] += r.force;
           if constexpr (rotating) {
             // The sphere's contact point relative to the wall, which moves along its normal only.
             const Vec<3>& o = omega[i];
             const Vec<D>& vi = v[i];
-            const double* nw = c.normal;
+            const double* nw = contact.normal;
             double cv[3] = {vi[0] - ri * (o[1] * nw[2] - o[2] * nw[1]), vi[1] - ri * (o[2] * nw[0] - o[0] * nw[2]),
                             vi[2] - ri * (o[0] * nw[1] - o[1] * nw[0])};
-            if (!w.divider) cv[w.axis] -= wall_speed_[wi];
+            if (!w.divider) cv[w.axis] -= speed;
             const bool lsd = w.law.model == ContactModel::lsd;
-            const double k_n = lsd ? w.law.stiffness : w.law.stiffness * std::sqrt(c.overlap);
-            const double g_n = lsd ? w.law.gamma(mi) : 1.5 * w.law.damping * w.law.stiffness * std::sqrt(c.overlap);
+            const double k_n = lsd ? w.law.stiffness : w.law.stiffness * std::sqrt(contact.overlap);
+            const double g_n =
+                lsd ? w.law.gamma(mi) : 1.5 * w.law.damping * w.law.stiffness * std::sqrt(contact.overlap);
             const TangentialFriction::Result tr =
                 friction.apply(nl.wall_shear[i * walls + wi], cv, nw, r.force, k_n, g_n);
-            for (int a = 0; a < 3; ++a) f[a] += tr.force[a];
-            tau += Vec<3>(-ri * (nw[1] * tr.force[2] - nw[2] * tr.force[1]), -ri * (nw[2] * tr.force[0] - nw[0] * tr.force[2]),
-                          -ri * (nw[0] * tr.force[1] - nw[1] * tr.force[0]));
-            elastic += tr.elastic;
-            dissipated += tr.dissipated;
+            for (int a = 0; a < 3; ++a) force[i][a] += tr.force[a];
+            torque[i] += Vec<3>(-ri * (nw[1] * tr.force[2] - nw[2] * tr.force[1]),
+                                -ri * (nw[2] * tr.force[0] - nw[0] * tr.force[2]),
+                                -ri * (nw[0] * tr.force[1] - nw[1] * tr.force[0]));
+            out[0] += tr.elastic;
+            out[1] += tr.dissipated;
           }
         }
-        for (int a = 0; a < D; ++a) force[i][a] = f[a];
-        if constexpr (rotating) torque[i] = tau;
-      }
-      double* out = &wall_partial_[width * k];
-      out[0] = elastic;
-      out[1] = dissipated;
-      out[2] = power;
-      out[3] = wall_contacts;
-    });
+      });
+    }
   }
 
-  std::vector<double> wall_partial_, pair_partial_;
-  std::vector<double> wall_at_, wall_speed_;
+  std::vector<std::vector<std::uint32_t>> wall_candidates_;
+  std::uint64_t candidates_of_build_ = ~std::uint64_t{0};
+  std::vector<std::vector<double>> wall_partial_;
+  std::vector<double> pair_partial_;
   bool mass_checked_ = false, uniform_mass_ = false, same_radius_ = false;
 };
+
 
 }  // namespace granflow::dem
