@@ -135,6 +135,12 @@ void build(Run& run) {
   profile.split_at = divider_x;
   profile.area_right = (box[0] - divider_x) * box[1];
   run.observe<dem::DemHeightProfiles<D>>(outputs, profile);
+  profile.average_from = counts->average_from;
+  // Twenty samples per shaking period for the time-averaged profiles.
+  auto& average = run.keep("height_profile_average",
+                           run.observe<dem::DemHeightProfileAverage<D>>(
+                               std::make_shared<EveryTime>(0.05 / c.real("shaking.frequency"), t_stop), profile));
+  run.at_finish([&average](H5mdFile& file, const RunOutcome&) { average.write_means(file); });
   run.at_finish([counts](H5mdFile& file, const RunOutcome&) {
     const double samples = std::max(counts->samples, 1.0);
     file.write_attribute("/observables", "asymmetry_time_mean", counts->sum / samples);

@@ -11,6 +11,7 @@
 // granular temperature against height.
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <array>
 #include <cmath>
@@ -104,6 +105,17 @@ void build(Run& run) {
   profile.layer = 2.0 * radius;
   profile.area = box[0] * box[1];
   run.observe<dem::DemHeightProfiles<D>>(outputs, profile);
+  profile.average_from = c.real("output.average_after");
+  // Twenty samples per shaking period for the time-averaged profiles.
+  auto& average = run.keep("height_profile_average",
+                           run.observe<dem::DemHeightProfileAverage<D>>(
+                               std::make_shared<EveryTime>(0.05 / c.real("shaking.frequency"), c.real("run.t_stop")),
+                               profile));
+  run.at_finish([&average](H5mdFile& file, const RunOutcome&) {
+    if (average.samples() == 0)
+      spdlog::info("nothing sampled at or after output.average_after: no time-averaged height profiles");
+    average.write_means(file);
+  });
 }
 
 }  // namespace
@@ -126,12 +138,14 @@ GRANFLOW_REGISTER_SCENARIO(vibrated_bed, Scenario{
     dem::declare_dem_keys(s, d);
     s.real("contact.damping_rate", 50.0, 0.0, inf,
            "LAMMPS's gamma_n: damping force m_eff gamma_n times the normal speed (0: from contact.restitution)")
+        .real("output.average_after", 2.0, 0.0, inf,
+              "time from which the height profiles are averaged (packing_fraction_profile_mean, temperature_profile_mean)")
         .real("bed.lattice_density", 1.05, 0.0, inf, "spheres per unit volume of the initial simple cubic lattice", true)
         .real_array("bed.fill", {0.0, 22.5, 0.0, 22.5, 0.6, 20.5}, -1e9, 1e9, 6, 6,
                     "[x0, x1, y0, y1, z0, z1]: the lattice sites filled, in this order, up to system.count")
         .real("bed.temperature", 0.1, 0.0, inf, "initial kT of the spheres (Maxwell-Boltzmann, no net momentum)");
     s.unit("contact.damping_rate", unit::rate).unit("bed.lattice_density", "L-3").unit("bed.fill", unit::length)
-        .unit("bed.temperature", unit::energy);
+        .unit("bed.temperature", unit::energy).unit("output.average_after", unit::time);
   },
   .build = build,
 })

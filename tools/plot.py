@@ -271,6 +271,10 @@ def plot_sweep(files, output, x_key=None, y_names=None, logx=False):
         ax.set_ylabel(name + bracket(units.get(name, "")))
         if logx:
             ax.set_xscale("log")
+        if name == "eggers_flux_B":
+            # Eggers (1999): equal sharing is stable while the flux model's B < 4.
+            ax.axhline(4.0, color="k", lw=0.8, ls=":", label="B = 4: equal sharing stable below")
+            ax.legend(fontsize=8)
         if len(groups) > 1 or f"{name}_theory_mean" in summary:
             ax.legend(fontsize=8)
     runs = summary["runs"][()]
@@ -560,6 +564,77 @@ def plot_shaken_bed(files, output):
     frequency = float(f["/parameters/shaking"].attrs["frequency"])
     fig.suptitle(f"shaken bed, N = {n}, A = {amplitude:g}, f = {frequency:g}")
     save(fig, output)
+    divider = f["/parameters/divider"].attrs
+    box = f["/parameters/system"].attrs["box"]
+    position = float(divider["position"]) or 0.5 * box[0]
+    draw_bed(f, os.path.splitext(output)[0] + "_bed.png", ["_left", "_right"],
+             divider=(position, float(divider["height"])))
+
+
+def draw_side_view(ax, f, divider=None):
+    """The last particle frame seen along y: each sphere a disc at (x, z)."""
+    from matplotlib.collections import EllipseCollection
+    box = f["/parameters/system"].attrs["box"]
+    if "/particles/all/position" not in f:
+        ax.text(0.5, 0.5, "no particle frame (output.positions = none)", ha="center", transform=ax.transAxes)
+        return
+    x = f["/particles/all/position/value"][-1]
+    d = 2 * f["/particles/all/radius"][()]
+    ax.add_collection(EllipseCollection(d, d, np.zeros_like(d), offsets=x[:, [0, 2]], units="xy",
+                                        transOffset=ax.transData, facecolors="C0", edgecolors="k", linewidths=0.2,
+                                        alpha=0.7))
+    if divider:
+        ax.plot([divider[0], divider[0]], [0, divider[1]], "k-", lw=2)
+    ax.set_xlim(0, box[0])
+    ax.set_ylim(0, min(box[2], max(1.2 * x[:, 2].max(), 1.0)))
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [L]")
+    ax.set_ylabel("z [L]")
+    ax.set_title(f"side view at t = {f['/particles/all/velocity/time'][-1]:.4g}", fontsize=9)
+
+
+def draw_bed(f, output, suffixes, divider=None, title=None):
+    """Side view of the last frame and the time-averaged profiles against height."""
+    obs = f["/observables"]
+    fig, (view, packing, temperature) = plt.subplots(1, 3, figsize=(16, 4.4),
+                                                     gridspec_kw={"width_ratios": [1.6, 1, 1]})
+    draw_side_view(view, f, divider)
+    if "height_profile_layer" not in obs.attrs:
+        packing.text(0.5, 0.5, "no time-averaged profiles", ha="center", transform=packing.transAxes)
+        save(fig, output)
+        return
+    layer = float(obs.attrs["height_profile_layer"])
+    top = layer
+    for suffix in suffixes:
+        phi = obs[f"packing_fraction_profile_mean{suffix}"][()]
+        t = obs[f"temperature_profile_mean{suffix}"][()]
+        z = (np.arange(len(phi)) + 0.5) * layer
+        label = suffix.strip("_") or "bed"
+        packing.plot(phi, z, "-o", ms=3, label=label)
+        filled = t > 0
+        temperature.plot(t[filled], z[filled], "-o", ms=3, label=label)
+        if filled.any():
+            top = max(top, z[filled].max() + 2 * layer)
+    for ax, name in ((packing, "packing fraction"), (temperature, "granular temperature [M L2 T-2]")):
+        ax.set_xlabel(name)
+        ax.set_ylabel("height z [L]")
+        ax.set_ylim(0, top)
+        ax.legend(fontsize=8)
+    temperature.set_xscale("log")
+    samples = int(obs.attrs["height_profile_samples"])
+    start = float(obs.attrs["height_profile_average_from"])
+    packing.set_title(f"time average of {samples} samples from t = {start:g}", fontsize=9)
+    if title:
+        fig.suptitle(title)
+    save(fig, output)
+
+
+def plot_vibrated_bed(files, output):
+    f = files[0]
+    n = int(f["/parameters/system"].attrs["count"])
+    amplitude = float(f["/parameters/shaking"].attrs["amplitude"])
+    frequency = float(f["/parameters/shaking"].attrs["frequency"])
+    draw_bed(f, output, [""], title=f"vibrated bed, N = {n}, A = {amplitude:g}, f = {frequency:g}")
 
 
 PLOTTERS = {"haff_cooling": lambda files, output: plot_haff(files[0], output),
@@ -574,6 +649,7 @@ PLOTTERS = {"haff_cooling": lambda files, output: plot_haff(files[0], output),
             "srd_poiseuille": plot_srd_poiseuille,
             "gsrd_shaken": plot_gsrd_shaken,
             "shaken_bed": plot_shaken_bed,
+            "vibrated_bed": plot_vibrated_bed,
             "gsrd_cooling": plot_gsrd_cooling}
 
 

@@ -28,6 +28,7 @@
 #include "engine/config.hpp"
 #include "engine/input_error.hpp"
 #include "engine/run.hpp"
+#include "systems/observables/particle_frames.hpp"
 #include "engine/units.hpp"
 #include "systems/dem/contact_forces.hpp"
 #include "systems/dem/dem_energy.hpp"
@@ -50,6 +51,7 @@ struct DemDefaults {
 
 inline void declare_dem_keys(ConfigSchema& s, const DemDefaults& d) {
   constexpr double inf = std::numeric_limits<double>::infinity();
+  declare_frame_keys(s, "final");
   s.integer("system.count", d.count, 1, 1000000, "number of spheres")
       .real_array("system.box", d.box, 0.0, 1e9, 3, 3, "box edge lengths along x, y, z")
       .real("particle.radius", 0.5, 0.0, inf, "sphere radius", true)
@@ -166,7 +168,8 @@ inline SphereColumns add_spheres(World& world, std::size_t n, double radius, dou
 }
 
 // The resources, the forces of the initial state, the step chain, the
-// energy observer at `outputs`, the stop at run.t_stop. Call after
+// energy observer at `outputs`, the particle frames (output.positions), the
+// stop at run.t_stop. Call after
 // run.initial_state.
 inline void add_dem_step(Run& run, const std::array<double, 3>& box, const std::array<bool, 3>& periodic,
                          const ContactLaw& law, std::vector<DemWall> walls, double dt, double t_c,
@@ -246,6 +249,7 @@ inline void add_dem_step(Run& run, const std::array<double, 3>& box, const std::
   }
   run.step<DemEnergyAccount<D>>(dt);
   run.observe<DemEnergyObserver<D>>(outputs);
+  add_particle_frames<D>(run, outputs);
   run.stop_at_time(c.real("run.t_stop"));
   run.finished_reason("reached run.t_stop");
   const auto n = static_cast<double>(c.integer("system.count"));

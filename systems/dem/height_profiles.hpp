@@ -4,18 +4,31 @@
 // the layer's volume) and the granular temperature (m |v - <v>|^2 / D of
 // the layer's spheres, about the layer's mean velocity), in layers of
 // `layer` thickness from 0 to `height`. With a divider, per compartment:
-// the observables end in _left and _right.
+// the observables end in _left and _right. DemHeightProfileAverage samples
+// the same profiles more often than the outputs (so that the average runs
+// over the whole shaking cycle, not the outputs' phase of it) from
+// `average_from` on, and writes their time averages at the end as
+// time-independent observables (packing_fraction_profile_mean,
+// temperature_profile_mean, with the suffixes): the packing fraction as a
+// plain mean, the temperature weighted by each layer's sphere count (an
+// empty layer has no temperature), with the layer thickness, the number of
+// samples and the time they start from as attributes of /observables
+// (height_profile_layer, ..._samples, ..._average_from). Its sums are kept
+// in checkpoints.
 
 #include <cmath>
 #include <numbers>
 #include <string>
 #include <vector>
 
+#include "components/clock.hpp"
 #include "components/mass.hpp"
 #include "components/position.hpp"
 #include "components/radius.hpp"
 #include "components/velocity.hpp"
+#include "engine/h5md_file.hpp"
 #include "engine/observable_store.hpp"
+#include "engine/state_map.hpp"
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/units.hpp"
@@ -34,7 +47,59 @@ struct HeightProfileGeometry {
   int split_axis = -1;       // -1: one profile; else the divider's axis
   double split_at = 0.0;     // and its position
   double area_right = 1.0;   // of a layer of the right compartment
+  double average_from = 0.0; // DemHeightProfileAverage: time from which the profiles are averaged
+
+  std::vector<std::string> suffixes() const {
+    return split_axis < 0 ? std::vector<std::string>{""} : std::vector<std::string>{"_left", "_right"};
+  }
+  std::size_t layers() const { return static_cast<std::size_t>(std::ceil(height / layer)); }
 };
+
+// The profiles now, per part (compartment) and layer.
+struct HeightProfiles {
+  std::vector<std::vector<double>> packing, temperature, count;
+};
+
+template <int D>
+HeightProfiles height_profiles(const World& world, const HeightProfileGeometry& g) {
+  const auto& x = world.component<Position<D>>();
+  const auto& v = world.component<Velocity<D>>();
+  const auto& r = world.component<Radius>();
+  const auto& m = world.component<Mass>();
+  const std::size_t parts = g.suffixes().size(), k_count = g.layers();
+  // Per part and layer: volume, count, mass, momentum (D), m |v|^2.
+  const std::size_t w = 4 + D;
+  std::vector<double> sums(parts * k_count * w, 0.0);
+  for (std::size_t i = 0; i < world.size(); ++i) {
+    const double h = x[i][g.up];
+    if (h < 0.0 || h >= g.height) continue;
+    const auto k = static_cast<std::size_t>(h / g.layer);
+    const std::size_t part = g.split_axis < 0 || x[i][g.split_axis] < g.split_at ? 0 : 1;
+    double* s = &sums[(part * k_count + k) * w];
+    s[0] += 4.0 / 3.0 * std::numbers::pi * r[i] * r[i] * r[i];
+    s[1] += 1.0;
+    s[2] += m[i];
+    for (int a = 0; a < D; ++a) s[3 + a] += m[i] * v[i][a];
+    s[3 + D] += m[i] * v[i].squaredNorm();
+  }
+  HeightProfiles out;
+  for (std::size_t part = 0; part < parts; ++part) {
+    std::vector<double> packing(k_count), temperature(k_count), count(k_count);
+    const double area = part == 0 ? g.area : g.area_right;
+    for (std::size_t k = 0; k < k_count; ++k) {
+      const double* s = &sums[(part * k_count + k) * w];
+      packing[k] = s[0] / (area * g.layer);
+      double mean2 = 0.0;
+      for (int a = 0; a < D; ++a) mean2 += s[3 + a] * s[3 + a];
+      temperature[k] = s[1] > 1 ? (s[3 + D] - mean2 / s[2]) / (D * s[1]) : 0.0;
+      count[k] = s[1];
+    }
+    out.packing.push_back(std::move(packing));
+    out.temperature.push_back(std::move(temperature));
+    out.count.push_back(std::move(count));
+  }
+  return out;
+}
 
 template <int D>
 class DemHeightProfiles : public System {
@@ -44,56 +109,88 @@ class DemHeightProfiles : public System {
   Access access() const override {
     Access a;
     a.reads<Position<D>, Velocity<D>, Radius, Mass>();
-    for (const std::string& suffix : suffixes()) {
+    for (const std::string& suffix : g_.suffixes()) {
       a.writes_observable("packing_fraction_profile" + suffix, unit::none);
       a.writes_observable("temperature_profile" + suffix, unit::energy);
     }
     return a;
   }
-  std::vector<std::string> suffixes() const {
-    return g_.split_axis < 0 ? std::vector<std::string>{""} : std::vector<std::string>{"_left", "_right"};
-  }
-  std::size_t layers() const { return static_cast<std::size_t>(std::ceil(g_.height / g_.layer)); }
-
   void run(World& world) override {
-    const auto& x = world.component<Position<D>>();
-    const auto& v = world.component<Velocity<D>>();
-    const auto& r = world.component<Radius>();
-    const auto& m = world.component<Mass>();
-    const std::size_t parts = suffixes().size(), k_count = layers();
-    // Per part and layer: volume, count, mass, momentum (D), m |v|^2.
-    const std::size_t w = 4 + D;
-    std::vector<double> sums(parts * k_count * w, 0.0);
-    for (std::size_t i = 0; i < world.size(); ++i) {
-      const double h = x[i][g_.up];
-      if (h < 0.0 || h >= g_.height) continue;
-      const auto k = static_cast<std::size_t>(h / g_.layer);
-      const std::size_t part = g_.split_axis < 0 || x[i][g_.split_axis] < g_.split_at ? 0 : 1;
-      double* s = &sums[(part * k_count + k) * w];
-      s[0] += 4.0 / 3.0 * std::numbers::pi * r[i] * r[i] * r[i];
-      s[1] += 1.0;
-      s[2] += m[i];
-      for (int a = 0; a < D; ++a) s[3 + a] += m[i] * v[i][a];
-      s[3 + D] += m[i] * v[i].squaredNorm();
-    }
+    HeightProfiles now = height_profiles<D>(world, g_);
     auto& store = world.resource<ObservableStore>();
-    for (std::size_t part = 0; part < parts; ++part) {
-      std::vector<double> packing(k_count), temperature(k_count);
-      const double area = part == 0 ? g_.area : g_.area_right;
-      for (std::size_t k = 0; k < k_count; ++k) {
-        const double* s = &sums[(part * k_count + k) * w];
-        packing[k] = s[0] / (area * g_.layer);
-        double mean2 = 0.0;
-        for (int a = 0; a < D; ++a) mean2 += s[3 + a] * s[3 + a];
-        temperature[k] = s[1] > 1 ? (s[3 + D] - mean2 / s[2]) / (D * s[1]) : 0.0;
-      }
-      store.set("packing_fraction_profile" + suffixes()[part], std::move(packing));
-      store.set("temperature_profile" + suffixes()[part], std::move(temperature));
+    for (std::size_t part = 0; part < now.packing.size(); ++part) {
+      store.set("packing_fraction_profile" + g_.suffixes()[part], std::move(now.packing[part]));
+      store.set("temperature_profile" + g_.suffixes()[part], std::move(now.temperature[part]));
     }
   }
 
  private:
   HeightProfileGeometry g_;
+};
+
+inline const SystemDescription observe_dem_height_profile_average_description{
+    "observe_dem_height_profile_average", "time averages of the height profiles, sampled through the shaking cycle"};
+
+template <int D>
+class DemHeightProfileAverage : public System, public Stateful {
+ public:
+  explicit DemHeightProfileAverage(HeightProfileGeometry g) : g_(g) {}
+  std::string name() const override { return "observe_dem_height_profile_average"; }
+  Access access() const override { return Access{}.reads<Clock, Position<D>, Velocity<D>, Radius, Mass>(); }
+
+  void run(World& world) override {
+    if (world.resource<Clock>().time < g_.average_from) return;
+    const HeightProfiles now = height_profiles<D>(world, g_);
+    const std::size_t parts = now.packing.size(), k_count = g_.layers();
+    // Per part and layer: sum of packing fractions, of count x temperature, of counts.
+    sums_.resize(parts * k_count * 3, 0.0);
+    for (std::size_t part = 0; part < parts; ++part)
+      for (std::size_t k = 0; k < k_count; ++k) {
+        double* a = &sums_[(part * k_count + k) * 3];
+        a[0] += now.packing[part][k];
+        if (now.count[part][k] > 1) {
+          a[1] += now.count[part][k] * now.temperature[part][k];
+          a[2] += now.count[part][k];
+        }
+      }
+    ++samples_;
+  }
+
+  std::uint64_t samples() const { return samples_; }
+  // The averaged profiles, where some sample was taken.
+  void write_means(H5mdFile& file) const {
+    if (samples_ == 0) return;
+    const std::size_t k_count = g_.layers();
+    for (std::size_t part = 0; part < g_.suffixes().size(); ++part) {
+      std::vector<double> packing(k_count), temperature(k_count);
+      for (std::size_t k = 0; k < k_count; ++k) {
+        const double* a = &sums_[(part * k_count + k) * 3];
+        packing[k] = a[0] / static_cast<double>(samples_);
+        temperature[k] = a[2] > 0.0 ? a[1] / a[2] : 0.0;
+      }
+      file.write_observable_constant("packing_fraction_profile_mean" + g_.suffixes()[part], packing, unit::none);
+      file.write_observable_constant("temperature_profile_mean" + g_.suffixes()[part], temperature, unit::energy);
+    }
+    file.write_attribute("/observables", "height_profile_layer", g_.layer);
+    file.write_attribute("/observables", "height_profile_samples", static_cast<double>(samples_));
+    file.write_attribute("/observables", "height_profile_average_from", g_.average_from);
+  }
+
+  StateMap save_state() const override {
+    StateMap s;
+    s["sums"] = sums_;
+    s["samples"] = {static_cast<double>(samples_)};
+    return s;
+  }
+  void restore_state(const StateMap& s) override {
+    sums_ = s.at("sums");
+    samples_ = static_cast<std::uint64_t>(s.at("samples").at(0));
+  }
+
+ private:
+  HeightProfileGeometry g_;
+  std::vector<double> sums_;
+  std::uint64_t samples_ = 0;
 };
 
 }  // namespace granflow::dem
