@@ -263,6 +263,8 @@ def plot_sweep(files, output, x_key=None, y_names=None, logx=False):
         err = np.nan_to_num(summary[f"{name}_stderr"][()])
         for label, rows in groups.items():
             rows = sorted(rows, key=lambda r: x[r])
+            if name == "eggers_flux_B":
+                rows = [r for r in rows if mean[r] != 0.0]  # 0: too few crossings to fit
             ax.errorbar(x[rows], mean[rows], yerr=err[rows], fmt="o", capsize=3, label=label or "measured")
             if f"{name}_theory_mean" in summary:
                 ax.plot(x[rows], summary[f"{name}_theory_mean"][()][rows], "k--",

@@ -86,7 +86,7 @@ class DemContactForces : public System {
   // power, contacts, the force the wall is pressed with; of each slab
   // (pairs): elastic, dissipated, contacts.
   static constexpr std::size_t wall_sums = 5, pair_sums = 3;
-  static constexpr std::size_t chunk = 1024;  // spheres
+  static constexpr std::size_t chunk = 1024;  // a wall's candidates per task
   static constexpr std::size_t block = 256;   // pairs evaluated together before their forces are handed out
 
   template <bool Friction>
