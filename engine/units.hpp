@@ -15,6 +15,7 @@ inline constexpr const char* time = "T";
 inline constexpr const char* velocity = "L T-1";
 inline constexpr const char* acceleration = "L T-2";
 inline constexpr const char* energy = "M L2 T-2";
+inline constexpr const char* force = "M L T-2";
 inline constexpr const char* diffusivity = "L2 T-1";
 inline constexpr const char* rate = "T-1";
 inline constexpr const char* per_velocity = "T L-1";  // a speed distribution's density

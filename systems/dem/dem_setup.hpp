@@ -35,6 +35,7 @@
 #include "systems/dem/neighbour_list.hpp"
 #include "systems/dem/position_verlet.hpp"
 #include "systems/dem/velocity_verlet.hpp"
+#include "systems/dem/wall_observer.hpp"
 
 namespace granflow::dem {
 
@@ -168,8 +169,8 @@ inline SphereColumns add_spheres(World& world, std::size_t n, double radius, dou
 }
 
 // The resources, the forces of the initial state, the step chain, the
-// energy observer at `outputs`, the particle frames (output.positions), the
-// stop at run.t_stop. Call after
+// energy and wall observers at `outputs`, the particle frames
+// (output.positions), the stop at run.t_stop. Call after
 // run.initial_state.
 inline void add_dem_step(Run& run, const std::array<double, 3>& box, const std::array<bool, 3>& periodic,
                          const ContactLaw& law, std::vector<DemWall> walls, double dt, double t_c,
@@ -249,6 +250,7 @@ inline void add_dem_step(Run& run, const std::array<double, 3>& box, const std::
   }
   run.step<DemEnergyAccount<D>>(dt);
   run.observe<DemEnergyObserver<D>>(outputs);
+  run.observe<DemWallObserver<D>>(outputs);
   add_particle_frames<D>(run, outputs);
   run.stop_at_time(c.real("run.t_stop"));
   run.finished_reason("reached run.t_stop");

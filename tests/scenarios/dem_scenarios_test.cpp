@@ -70,6 +70,30 @@ TEST(ShakenBed, FluxAccountsForTheAsymmetryAndTheEnergyBalances) {
     ASSERT_NEAR(volume, n * std::acos(-1.0) / 6.0, 1e-9) << "output " << k;
   }
   for (double t : file.doubles("/observables/temperature_profile_left/value").values) ASSERT_GE(t, 0.0);
+  // The time-averaged profiles, sampled twenty times per shaking period
+  // after output.average_after = 10, hold every sphere once as well.
+  const auto left_mean = file.doubles("/observables/packing_fraction_profile_mean_left").values;
+  const auto right_mean = file.doubles("/observables/packing_fraction_profile_mean_right").values;
+  ASSERT_EQ(left_mean.size(), layers);
+  double volume = 0.0;
+  for (std::size_t q = 0; q < layers; ++q) volume += 40.0 * (left_mean[q] + right_mean[q]);
+  EXPECT_NEAR(volume, n * std::acos(-1.0) / 6.0, 1e-9);
+  // The walls (x-, x+, y-, y+, floor, ceiling, divider): the floor at
+  // A sin(2 pi f t) at every output, the divider at x = 10; the floor, which
+  // carries the spheres, is pressed down on average (a contact's force may
+  // be briefly attractive at its end, so single values may be negative).
+  const auto time = file.doubles("/observables/wall_position/time").values;
+  const auto position = file.doubles("/observables/wall_position/value").values;
+  const auto force = file.doubles("/observables/wall_force/value").values;
+  ASSERT_EQ(position.size(), 7 * time.size());
+  ASSERT_EQ(force.size(), 7 * time.size());
+  double floor_force = 0.0;
+  for (std::size_t k = 0; k < time.size(); ++k) {
+    ASSERT_NEAR(position[7 * k + 4], 0.5 * std::sin(2.0 * std::acos(-1.0) * 2.5 * time[k]), 1e-12) << "output " << k;
+    ASSERT_EQ(position[7 * k + 6], 10.0);
+    floor_force += force[7 * k + 4] / static_cast<double>(time.size());
+  }
+  EXPECT_GT(floor_force, 0.0);
 }
 
 }  // namespace
