@@ -136,10 +136,9 @@ void build(Run& run) {
   profile.area_right = (box[0] - divider_x) * box[1];
   run.observe<dem::DemHeightProfiles<D>>(outputs, profile);
   profile.average_from = counts->average_from;
-  // Twenty samples per shaking period for the time-averaged profiles.
-  auto& average = run.keep("height_profile_average",
-                           run.observe<dem::DemHeightProfileAverage<D>>(
-                               std::make_shared<EveryTime>(0.05 / c.real("shaking.frequency"), t_stop), profile));
+  const double sample_every = dem::profile_sample_interval(c.real("shaking.frequency"), c.real("output.interval"));
+  auto& average = run.keep("height_profile_average", run.observe<dem::DemHeightProfileAverage<D>>(
+                                                         std::make_shared<EveryTime>(sample_every, t_stop), profile));
   run.at_finish([&average](H5mdFile& file, const RunOutcome&) { average.write_means(file); });
   run.at_finish([counts](H5mdFile& file, const RunOutcome&) {
     const double samples = std::max(counts->samples, 1.0);

@@ -106,11 +106,10 @@ void build(Run& run) {
   profile.area = box[0] * box[1];
   run.observe<dem::DemHeightProfiles<D>>(outputs, profile);
   profile.average_from = c.real("output.average_after");
-  // Twenty samples per shaking period for the time-averaged profiles.
+  const double sample_every = dem::profile_sample_interval(c.real("shaking.frequency"), c.real("output.interval"));
   auto& average = run.keep("height_profile_average",
                            run.observe<dem::DemHeightProfileAverage<D>>(
-                               std::make_shared<EveryTime>(0.05 / c.real("shaking.frequency"), c.real("run.t_stop")),
-                               profile));
+                               std::make_shared<EveryTime>(sample_every, c.real("run.t_stop")), profile));
   run.at_finish([&average](H5mdFile& file, const RunOutcome&) {
     if (average.samples() == 0)
       spdlog::info("nothing sampled at or after output.average_after: no time-averaged height profiles");
