@@ -5,16 +5,15 @@
 // next list build (found at each build). Then the pairs of the half
 // neighbour lists, slab by slab (neighbour_list.hpp): each pair is evaluated
 // once and its force given to both spheres; the slabs of one parity run in
-// parallel, since none of them touches the spheres of another. Without
+// parallel, since none of them touches the spheres of another; each thread
+// works on its own domain of slabs (thread_domains.hpp). Without
 // friction the pairs of a slab are evaluated by a branch-free vectorised
 // loop (pair_kernel.hpp), a block at a time. Every sum runs in an order
 // fixed by the slabs and the lists (no atomics), so the result is the same
 // on any thread count. The same passes book what the energy balance needs
 // at this instant: the energy stored in the springs, the power the dampers
 // and the sliding take and the power the moving walls give, summed per
-// fixed chunk of a wall's candidates and per slab.
-
-#include <tbb/parallel_for.h>
+// slab.
 
 #include <algorithm>
 #include <array>
@@ -37,6 +36,7 @@
 #include "systems/dem/neighbour_list.hpp"
 #include "systems/dem/pair_kernel.hpp"
 #include "systems/dem/tangential_friction.hpp"
+#include "systems/dem/thread_domains.hpp"
 
 namespace granflow::dem {
 
@@ -82,11 +82,10 @@ class DemContactForces : public System {
   }
 
  private:
-  // Partial sums of each chunk of a wall's candidates: elastic, dissipated,
-  // power, contacts, the force the wall is pressed with; of each slab
-  // (pairs): elastic, dissipated, contacts.
+  // Partial sums per slab of a wall's contacts: elastic, dissipated, power,
+  // contacts, the force the wall is pressed with; of the slab's pairs:
+  // elastic, dissipated, contacts.
   static constexpr std::size_t wall_sums = 5, pair_sums = 3;
-  static constexpr std::size_t chunk = 1024;  // a wall's candidates per task
   static constexpr std::size_t block = 256;   // pairs evaluated together before their forces are handed out
 
   template <bool Friction>
@@ -104,23 +103,38 @@ class DemContactForces : public System {
       same_radius_ = n > 0 && std::all_of(radius.values.begin(), radius.values.end(), [&](double r) { return r == radius[0]; });
       mass_checked_ = true;
     }
-    gravity(world);
     if (candidates_of_build_ != nl.builds || wall_candidates_.size() != walls) find_wall_candidates(world, in, nl);
-    walls_on_candidates<Friction>(world, in, nl);
-    // Slabs of one parity at a time: slab s gives forces to s and s + 1
+    for (auto& partial : wall_partial_) partial.assign(wall_sums * slabs, 0.0);
+    // Each thread its own domain of spheres and slabs (thread_domains.hpp):
+    // first their weights and wall contacts, then the pairs of their slabs
+    // of one parity, then of the other. Slab s gives forces to s and s + 1
     // only; along a periodic last axis the first slab also to the last, so
     // it goes alone, after the others.
+    const ThreadDomains& domains = nl.domains;
+    const std::size_t count = domains.count();
+    std::vector<std::size_t> pieces(count);
+    for (std::size_t d = 0; d < count; ++d) pieces[d] = domains.slab[d + 1] - domains.slab[d];
+    for_each_piece(pieces, [&](std::size_t d, std::size_t k) {
+      const std::size_t slab = domains.slab[d] + k;
+      gravity(world, in, nl, nl.slabs[slab], nl.slabs[slab + 1]);
+      walls_on_candidates<Friction>(world, in, nl, slab);
+    });
     const std::size_t first_slab = nl.periodic_slabs ? 1 : 0;
     for (std::size_t parity = 0; parity < 2; ++parity) {
-      const std::size_t begin = first_slab + ((first_slab + parity) % 2 ? 1 : 0);
-      const std::size_t count = begin < slabs ? (slabs - begin + 1) / 2 : 0;
-      tbb::parallel_for(std::size_t{0}, count, [&](std::size_t k) { slab_pairs<Friction>(world, in, nl, begin + 2 * k); });
+      // The slabs of this parity in each domain: from[d], from[d] + 2, ...
+      std::vector<std::size_t> from(count);
+      for (std::size_t d = 0; d < count; ++d) {
+        const std::size_t low = std::max<std::size_t>(domains.slab[d], first_slab), high = domains.slab[d + 1];
+        from[d] = low + (low % 2 != parity ? 1 : 0);
+        pieces[d] = from[d] < high ? (high - from[d] + 1) / 2 : 0;
+      }
+      for_each_piece(pieces, [&](std::size_t d, std::size_t k) { slab_pairs<Friction>(world, in, nl, from[d] + 2 * k); });
     }
     if (nl.periodic_slabs) slab_pairs<Friction>(world, in, nl, 0);
     double wall_total[wall_sums] = {}, pair_total[pair_sums] = {};
     in.wall_force.assign(walls, 0.0);
     for (std::size_t wi = 0; wi < walls; ++wi)
-      for (std::size_t k = 0; k < wall_partial_[wi].size(); k += wall_sums) {
+      for (std::size_t k = 0; k < wall_sums * slabs; k += wall_sums) {
         for (std::size_t s = 0; s < wall_sums - 1; ++s) wall_total[s] += wall_partial_[wi][k + s];
         in.wall_force[wi] += wall_partial_[wi][k + wall_sums - 1];
       }
@@ -254,20 +268,27 @@ class DemContactForces : public System {
     }
   }
 
-  // Every sphere's force starts with its weight (and its torque at zero).
-  void gravity(World& world) {
-    const auto& in = world.resource<DemInteractions<D>>();
+  // The force of each sphere of ranks [from, to) starts with its weight
+  // (and its torque at zero).
+  void gravity(World& world, const DemInteractions<D>& in, const NeighbourList<D>& nl, std::size_t from, std::size_t to) {
     const auto& mass = world.component<Mass>();
     double* const f = world.component<Force<D>>().values.data()->data();
     Vec<3>* torque = world.has_component<Torque>() ? world.component<Torque>().values.data() : nullptr;
     std::array<double, D> g{};
     for (int a = 0; a < D; ++a) g[a] = in.gravity[a];
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 4096), [&](const auto& range) {
-      for (std::size_t i = range.begin(); i != range.end(); ++i)
+    if (nl.reorder) {
+      // Ranks are indices.
+      for (std::size_t i = from; i < to; ++i)
         for (int a = 0; a < D; ++a) f[i * D + static_cast<std::size_t>(a)] = mass[i] * g[a];
       if (torque)
-        for (std::size_t i = range.begin(); i != range.end(); ++i) torque[i].setZero();
-    });
+        for (std::size_t i = from; i < to; ++i) torque[i].setZero();
+      return;
+    }
+    for (std::size_t m = from; m < to; ++m) {
+      const std::size_t i = nl.order[m];
+      for (int a = 0; a < D; ++a) f[i * D + static_cast<std::size_t>(a)] = mass[i] * g[a];
+      if (torque) torque[i].setZero();
+    }
   }
 
   // The spheres that can touch each wall before the next list build: those
@@ -276,28 +297,37 @@ class DemContactForces : public System {
   // at every build; the others' wall springs are zero (they do not touch).
   void find_wall_candidates(World& world, const DemInteractions<D>& in, NeighbourList<D>& nl) {
     const auto& radius = world.component<Radius>();
-    const std::size_t n = world.size(), walls = in.walls.size();
+    const std::size_t walls = in.walls.size(), slabs = nl.slabs.size() - 1;
     wall_candidates_.assign(walls, {});
+    wall_candidate_start_.assign(walls, std::vector<std::uint32_t>(slabs + 1, 0));
+    wall_partial_.resize(walls);
     for (std::size_t wi = 0; wi < walls; ++wi) {
       const DemWall& w = in.walls[wi];
       auto& list = wall_candidates_[wi];
-      for (std::size_t i = 0; i < n; ++i) {
-        const double reach = radius[i] + nl.skin, along = nl.reference[i][w.axis];
-        bool near;
-        if (w.divider) near = std::abs(along - w.rest) < reach;
-        else if (w.side < 0) near = along < w.rest + std::abs(w.amplitude) + reach;
-        else near = along > w.rest - std::abs(w.amplitude) - reach;
-        if (near) list.push_back(static_cast<std::uint32_t>(i));
-        else if (!nl.wall_shear.empty()) nl.wall_shear[i * walls + wi] = Shear{};
+      auto& start = wall_candidate_start_[wi];
+      // By rank, so that each slab's candidates are contiguous.
+      for (std::size_t slab = 0; slab < slabs; ++slab) {
+        start[slab] = static_cast<std::uint32_t>(list.size());
+        for (std::size_t m = nl.slabs[slab]; m < nl.slabs[slab + 1]; ++m) {
+          const std::uint32_t i = nl.order[m];
+          const double reach = radius[i] + nl.skin, along = nl.reference[i][w.axis];
+          bool near;
+          if (w.divider) near = std::abs(along - w.rest) < reach;
+          else if (w.side < 0) near = along < w.rest + std::abs(w.amplitude) + reach;
+          else near = along > w.rest - std::abs(w.amplitude) - reach;
+          if (near) list.push_back(i);
+          else if (!nl.wall_shear.empty()) nl.wall_shear[i * walls + wi] = Shear{};
+        }
       }
+      start[slabs] = static_cast<std::uint32_t>(list.size());
     }
     candidates_of_build_ = nl.builds;
   }
 
-  // Each wall's contacts with its candidates, one wall after another (a
-  // sphere may touch two), each wall's candidates in parallel chunks.
+  // Each wall's contacts with its candidates in one slab, one wall after
+  // another (a sphere may touch two), summed per slab.
   template <bool Rotating>
-  void walls_on_candidates(World& world, const DemInteractions<D>& in, NeighbourList<D>& nl) {
+  void walls_on_candidates(World& world, const DemInteractions<D>& in, NeighbourList<D>& nl, std::size_t slab) {
     const double t = world.resource<Clock>().time;
     const auto& x = world.component<Position<D>>();
     const auto& v = world.component<Velocity<D>>();
@@ -309,59 +339,54 @@ class DemContactForces : public System {
     [[maybe_unused]] Vec<3>* torque = rotating ? world.component<Torque>().values.data() : nullptr;
     const std::size_t walls = in.walls.size();
     const TangentialFriction friction = in.friction;
-    wall_partial_.resize(walls);
     for (std::size_t wi = 0; wi < walls; ++wi) {
       const DemWall& w = in.walls[wi];
       const double at = w.position(t), speed = w.velocity(t);
       const auto& list = wall_candidates_[wi];
-      const std::size_t chunks = (list.size() + chunk - 1) / chunk;
-      auto& partial = wall_partial_[wi];
-      partial.assign(wall_sums * chunks, 0.0);
-      tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
-        double* out = &partial[wall_sums * k];
-        const std::size_t end = std::min(list.size(), (k + 1) * chunk);
-        for (std::size_t c = k * chunk; c < end; ++c) {
-          const std::uint32_t i = list[c];
-          const double mi = mass[i], ri = radius[i];
-          const WallContact<D> contact = wall_contact<D>(w, at, speed, x[i].data(), v[i].data(), ri);
-          if (contact.overlap <= 0.0) {
-            if constexpr (rotating) nl.wall_shear[i * walls + wi] = Shear{};
-            continue;
-          }
-          const ContactLaw::Result r = w.law.normal(contact.overlap, contact.rate, mi);
-          for (int a = 0; a < D; ++a) force[i][a] += r.force * contact.normal[a];
-          out[0] += r.elastic;
-          out[1] += r.dissipated;
-          if (!w.divider) out[2] += r.force * contact.normal[w.axis] * speed;
-          out[3] += 1.0;
-          out[4] += r.force;
-          if constexpr (rotating) {
-            // The sphere's contact point relative to the wall, which moves along its normal only.
-            const Vec<3>& o = omega[i];
-            const Vec<D>& vi = v[i];
-            const double* nw = contact.normal;
-            double cv[3] = {vi[0] - ri * (o[1] * nw[2] - o[2] * nw[1]), vi[1] - ri * (o[2] * nw[0] - o[0] * nw[2]),
-                            vi[2] - ri * (o[0] * nw[1] - o[1] * nw[0])};
-            if (!w.divider) cv[w.axis] -= speed;
-            const bool lsd = w.law.model == ContactModel::lsd;
-            const double k_n = lsd ? w.law.stiffness : w.law.stiffness * std::sqrt(contact.overlap);
-            const double g_n =
-                lsd ? w.law.gamma(mi) : 1.5 * w.law.damping * w.law.stiffness * std::sqrt(contact.overlap);
-            const TangentialFriction::Result tr =
-                friction.apply(nl.wall_shear[i * walls + wi], cv, nw, r.force, k_n, g_n);
-            for (int a = 0; a < 3; ++a) force[i][a] += tr.force[a];
-            torque[i] += Vec<3>(-ri * (nw[1] * tr.force[2] - nw[2] * tr.force[1]),
-                                -ri * (nw[2] * tr.force[0] - nw[0] * tr.force[2]),
-                                -ri * (nw[0] * tr.force[1] - nw[1] * tr.force[0]));
-            out[0] += tr.elastic;
-            out[1] += tr.dissipated;
-          }
+      const auto& start = wall_candidate_start_[wi];
+      double* out = &wall_partial_[wi][wall_sums * slab];
+      for (std::size_t c = start[slab]; c < start[slab + 1]; ++c) {
+        const std::uint32_t i = list[c];
+        const double mi = mass[i], ri = radius[i];
+        const WallContact<D> contact = wall_contact<D>(w, at, speed, x[i].data(), v[i].data(), ri);
+        if (contact.overlap <= 0.0) {
+          if constexpr (rotating) nl.wall_shear[i * walls + wi] = Shear{};
+          continue;
         }
-      });
+        const ContactLaw::Result r = w.law.normal(contact.overlap, contact.rate, mi);
+        for (int a = 0; a < D; ++a) force[i][a] += r.force * contact.normal[a];
+        out[0] += r.elastic;
+        out[1] += r.dissipated;
+        if (!w.divider) out[2] += r.force * contact.normal[w.axis] * speed;
+        out[3] += 1.0;
+        out[4] += r.force;
+        if constexpr (rotating) {
+          // The sphere's contact point relative to the wall, which moves along its normal only.
+          const Vec<3>& o = omega[i];
+          const Vec<D>& vi = v[i];
+          const double* nw = contact.normal;
+          double cv[3] = {vi[0] - ri * (o[1] * nw[2] - o[2] * nw[1]), vi[1] - ri * (o[2] * nw[0] - o[0] * nw[2]),
+                          vi[2] - ri * (o[0] * nw[1] - o[1] * nw[0])};
+          if (!w.divider) cv[w.axis] -= speed;
+          const bool lsd = w.law.model == ContactModel::lsd;
+          const double k_n = lsd ? w.law.stiffness : w.law.stiffness * std::sqrt(contact.overlap);
+          const double g_n =
+              lsd ? w.law.gamma(mi) : 1.5 * w.law.damping * w.law.stiffness * std::sqrt(contact.overlap);
+          const TangentialFriction::Result tr =
+              friction.apply(nl.wall_shear[i * walls + wi], cv, nw, r.force, k_n, g_n);
+          for (int a = 0; a < 3; ++a) force[i][a] += tr.force[a];
+          torque[i] += Vec<3>(-ri * (nw[1] * tr.force[2] - nw[2] * tr.force[1]),
+                              -ri * (nw[2] * tr.force[0] - nw[0] * tr.force[2]),
+                              -ri * (nw[0] * tr.force[1] - nw[1] * tr.force[0]));
+          out[0] += tr.elastic;
+          out[1] += tr.dissipated;
+        }
+      }
     }
   }
 
-  std::vector<std::vector<std::uint32_t>> wall_candidates_;
+  std::vector<std::vector<std::uint32_t>> wall_candidates_;       // per wall, by rank
+  std::vector<std::vector<std::uint32_t>> wall_candidate_start_;  // per wall: slab s's from [s] to [s + 1]
   std::uint64_t candidates_of_build_ = ~std::uint64_t{0};
   std::vector<std::vector<double>> wall_partial_;
   std::vector<double> pair_partial_;

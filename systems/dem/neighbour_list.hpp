@@ -17,16 +17,17 @@
 // pair through rebuilds and reorderings.
 
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <vector>
 
+#include "components/clock.hpp"
 #include "components/position.hpp"
 #include "components/radius.hpp"
 #include "engine/state_map.hpp"
@@ -34,6 +35,7 @@
 #include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
 #include "systems/dem/nearest_image.hpp"
+#include "systems/dem/thread_domains.hpp"
 
 namespace granflow::dem {
 
@@ -105,6 +107,11 @@ struct NeighbourList : Stateful {
   std::vector<Vec<D>> reference;       // positions at the last build
   std::vector<Shear> shear;            // per pair (when keeps_history)
   std::vector<Shear> wall_shear;       // per sphere and wall: wall_shear[i * walls + w]
+  ThreadDomains domains;               // whole slabs per thread, from the lists
+  // The largest squared displacement since the build, as the drift of step
+  // displacement_step measured it (the list's own test is then not needed).
+  double displacement_squared = 0.0;
+  std::uint64_t displacement_step = ~std::uint64_t{0};
   std::size_t walls = 0;
   std::uint64_t builds = 0;
 
@@ -149,12 +156,13 @@ struct NeighbourList : Stateful {
       for (std::size_t k = 0; k < to.size(); ++k) to[k] = {in[3 * k], in[3 * k + 1], in[3 * k + 2]};
     }
     builds = static_cast<std::uint64_t>(s.at("builds").at(0));
+    displacement_step = ~std::uint64_t{0};
     if (offsets.size() != order.size() + 1 || list.size() != offsets.back() || slabs.empty() ||
         slabs.back() != order.size())
       throw std::invalid_argument("checkpoint neighbour lists are inconsistent");
     derive();
   }
-  // rank and first, from order and offsets.
+  // rank, first and the domains, from order, offsets and slabs.
   void derive() {
     rank.resize(order.size());
     first.resize(list.size());
@@ -162,8 +170,49 @@ struct NeighbourList : Stateful {
       rank[order[m]] = static_cast<std::uint32_t>(m);
       std::fill(first.begin() + offsets[m], first.begin() + offsets[m + 1], order[m]);
     }
+    domains = balanced_domains(slabs, offsets, domain_threads());
   }
 };
+
+// The domains of a per-sphere pass: those of the lists once built (spheres
+// of ranks, which are their indices when they are kept in cell order),
+// equal runs of indices before.
+template <int D>
+ThreadDomains sphere_domains(const World& world) {
+  const std::size_t threads = domain_threads();
+  if (world.has_resource<NeighbourList<D>>()) {
+    const auto& nl = world.resource<NeighbourList<D>>();
+    if (nl.domains.covers(world.size()) && nl.domains.count() == threads) return nl.domains;
+  }
+  return even_domains(world.size(), threads);
+}
+
+// The largest squared displacement of the spheres [from, to) since the
+// last build (a wrapped sphere is its own periodic image: the nearest one
+// counts).
+template <int D>
+double largest_displacement_squared(const Vec<D>* x, const NeighbourList<D>& nl, const DemBox<D>& box, std::size_t from,
+                                    std::size_t to) {
+  const std::array<double, D> half = box.half_periods();
+  double most = 0.0;
+  for (std::size_t i = from; i < to; ++i) {
+    double d2 = 0.0;
+    for (int k = 0; k < D; ++k) {
+      const double e = nearest_image(x[i][k] - nl.reference[i][k], box.length[k], half[k]);
+      d2 += e * e;
+    }
+    most = std::max(most, d2);
+  }
+  return most;
+}
+
+// largest = max(largest, value), from any thread: a maximum is the same
+// whichever gets there first.
+inline void raise_to(std::atomic<double>& largest, double value) {
+  double seen = largest.load(std::memory_order_relaxed);
+  while (value > seen && !largest.compare_exchange_weak(seen, value, std::memory_order_relaxed)) {
+  }
+}
 
 template <int D>
 class DemNeighbourList : public System {
@@ -171,7 +220,10 @@ class DemNeighbourList : public System {
   std::string name() const override { return "dem_neighbour_list"; }
   Access access() const override {
     // A build may reorder every column (World::permute).
-    return Access{}.reads<Radius, DemBox<D>>().template writes<Position<D>, NeighbourList<D>>().writes_every_component();
+    return Access{}
+        .reads<Clock, Radius, DemBox<D>>()
+        .template writes<Position<D>, NeighbourList<D>>()
+        .writes_every_component();
   }
 
   void run(World& world) override {
@@ -179,28 +231,18 @@ class DemNeighbourList : public System {
     if (!nl.built() || moved_too_far(world, nl)) build(world, nl);
   }
 
-  // Whether some sphere moved more than half the skin since the last build
-  // (a maximum: the same on any split over threads).
+  // Whether some sphere moved more than half the skin since the last build:
+  // the drift's figure of this step where it gave one, else measured here.
   static bool moved_too_far(const World& world, const NeighbourList<D>& nl) {
+    const double limit = 0.25 * nl.skin * nl.skin;
+    if (nl.displacement_step == world.resource<Clock>().step) return nl.displacement_squared > limit;
     const auto& x = world.component<Position<D>>();
     const auto& box = world.resource<DemBox<D>>();
-    const std::array<double, D> half = box.half_periods();
-    const double largest = tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, world.size(), 4096), 0.0,
-        [&](const auto& range, double worst) {
-          for (std::size_t i = range.begin(); i != range.end(); ++i) {
-            double d2 = 0.0;
-            for (int k = 0; k < D; ++k) {
-              // A wrapped sphere is its own periodic image: the nearest one counts.
-              const double d = nearest_image(x[i][k] - nl.reference[i][k], box.length[k], half[k]);
-              d2 += d * d;
-            }
-            worst = std::max(worst, d2);
-          }
-          return worst;
-        },
-        [](double a, double b) { return std::max(a, b); });
-    return largest > 0.25 * nl.skin * nl.skin;
+    std::atomic<double> largest{0.0};
+    for_each_sphere_run(sphere_domains<D>(world), [&](std::size_t, std::size_t from, std::size_t to) {
+      raise_to(largest, largest_displacement_squared(x.values.data(), nl, box, from, to));
+    });
+    return largest > limit;
   }
 
   static void build(World& world, NeighbourList<D>& nl) {
@@ -364,6 +406,7 @@ class DemNeighbourList : public System {
         std::fill(nl.first.begin() + nl.offsets[m], nl.first.begin() + nl.offsets[m + 1], nl.order[m]);
     });
     if (nl.keeps_history) carry_history(nl, previous, was, n);
+    nl.domains = balanced_domains(nl.slabs, nl.offsets, domain_threads());
     nl.reference.assign(x.values.begin(), x.values.end());
     ++nl.builds;
   }

@@ -6,9 +6,6 @@
 // of their own (unwrapped relative to the current ones, so that a sphere
 // crossing a periodic boundary keeps its displacement).
 
-#include <tbb/parallel_for.h>
-
-
 #include "components/clock.hpp"
 #include "components/force.hpp"
 #include "components/mass.hpp"
@@ -36,7 +33,7 @@ class DemPositionVerlet : public System {
   explicit DemPositionVerlet(double dt) : dt_(dt) {}
   std::string name() const override { return "dem_position_verlet"; }
   Access access() const override {
-    return Access{}.reads<Force<D>, Mass, DemBox<D>>().template writes<Position<D>, Velocity<D>, PreviousPosition<D>, Clock>();
+    return Access{}.reads<Force<D>, Mass, DemBox<D>, NeighbourList<D>>().template writes<Position<D>, Velocity<D>, PreviousPosition<D>, Clock>();
   }
 
   // The previous positions of a start from x and v: x - v dt + F dt^2 / 2m,
@@ -62,8 +59,9 @@ class DemPositionVerlet : public System {
     const auto& m = world.component<Mass>();
     const auto& box = world.resource<DemBox<D>>();
     const double dt = dt_;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 2048), [&](const auto& range) {
-      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+    const ThreadDomains domains = sphere_domains<D>(world);
+    for_each_sphere_run(domains, [&](std::size_t, std::size_t from, std::size_t to) {
+      for (std::size_t i = from; i < to; ++i) {
         const Vec<D> next = 2.0 * x[i] - previous[i] + (dt * dt / m[i]) * f[i];
         v[i] = (next - x[i]) / dt;
         previous[i] = x[i];

@@ -8,9 +8,8 @@
 // angular velocity by T dt / 2I with I = (2/5) m r^2, the moment of inertia
 // of a solid sphere.
 
-#include <tbb/parallel_for.h>
-
 #include <array>
+#include <atomic>
 
 #include "components/angular_velocity.hpp"
 #include "components/clock.hpp"
@@ -32,14 +31,17 @@ inline const SystemDescription dem_kick_drift_description{
 inline const SystemDescription dem_kick_description{"dem_kick", "velocity Verlet: the second half kick"};
 
 // w += T dt / 2I for every sphere of a world whose spheres rotate.
-inline void kick_rotation(World& world, double dt) {
+template <int D>
+void kick_rotation(World& world, double dt) {
   if (!world.has_component<AngularVelocity>()) return;
   auto& w = world.component<AngularVelocity>();
   const auto& torque = world.component<Torque>();
   const auto& m = world.component<Mass>();
   const auto& r = world.component<Radius>();
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 2048), [&](const auto& range) {
-    for (std::size_t i = range.begin(); i != range.end(); ++i) w[i] += (0.5 * dt / (0.4 * m[i] * r[i] * r[i])) * torque[i];
+  const ThreadDomains domains = sphere_domains<D>(world);
+  for_each_sphere_run(domains, [&](std::size_t, std::size_t from, std::size_t to) {
+    for (std::size_t i = from; i < to; ++i)
+      w[i] += (0.5 * dt / (0.4 * m[i] * r[i] * r[i])) * torque[i];
   });
 }
 
@@ -50,8 +52,8 @@ class DemKickDrift : public System {
   std::string name() const override { return "dem_kick_drift"; }
   Access access() const override {
     return Access{}
-        .reads<Force<D>, Torque, Mass, Radius, DemBox<D>>()
-        .template writes<Position<D>, Velocity<D>, AngularVelocity, Clock>();
+        .reads<Force<D>, Torque, Mass, Radius, DemBox<D>, NeighbourList<D>>()
+        .template writes<Position<D>, Velocity<D>, AngularVelocity, Clock, NeighbourList<D>>();
   }
   void run(World& world) override {
     auto& clock = world.resource<Clock>();
@@ -73,8 +75,15 @@ class DemKickDrift : public System {
     double* const xs = x.values.data()->data();
     double* const vs = v.values.data()->data();
     const double* const fs = f.values.data()->data();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 4096), [&](const auto& range) {
-      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+    // With the lists built, each run of spheres also measures how far they
+    // have moved since, while their positions are in cache: the lists' skin
+    // test then has no pass of its own.
+    NeighbourList<D>* nl = world.has_resource<NeighbourList<D>>() ? &world.resource<NeighbourList<D>>() : nullptr;
+    if (nl && !(nl->built() && nl->reference.size() == world.size())) nl = nullptr;
+    std::atomic<double> moved{0.0};
+    const ThreadDomains domains = sphere_domains<D>(world);
+    for_each_sphere_run(domains, [&](std::size_t, std::size_t from, std::size_t to) {
+      for (std::size_t i = from; i < to; ++i) {
         const double kick = 0.5 * dt / m[i];
         for (int a = 0; a < D; ++a) {
           const std::size_t k = i * D + static_cast<std::size_t>(a);
@@ -85,8 +94,13 @@ class DemKickDrift : public System {
           xs[k] = p;
         }
       }
+      if (nl) raise_to(moved, largest_displacement_squared(x.values.data(), *nl, box, from, to));
     });
-    kick_rotation(world, dt);
+    if (nl) {
+      nl->displacement_squared = moved;
+      nl->displacement_step = clock.step;
+    }
+    kick_rotation<D>(world, dt);
   }
 
  private:
@@ -99,17 +113,20 @@ class DemKick : public System {
   explicit DemKick(double dt) : dt_(dt) {}
   std::string name() const override { return "dem_kick"; }
   Access access() const override {
-    return Access{}.reads<Force<D>, Torque, Mass, Radius>().template writes<Velocity<D>, AngularVelocity>();
+    return Access{}
+        .reads<Force<D>, Torque, Mass, Radius, NeighbourList<D>>()
+        .template writes<Velocity<D>, AngularVelocity>();
   }
   void run(World& world) override {
     auto& v = world.component<Velocity<D>>();
     const auto& f = world.component<Force<D>>();
     const auto& m = world.component<Mass>();
     const double dt = dt_;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 2048), [&](const auto& range) {
-      for (std::size_t i = range.begin(); i != range.end(); ++i) v[i] += (0.5 * dt / m[i]) * f[i];
+    const ThreadDomains domains = sphere_domains<D>(world);
+    for_each_sphere_run(domains, [&](std::size_t, std::size_t from, std::size_t to) {
+      for (std::size_t i = from; i < to; ++i) v[i] += (0.5 * dt / m[i]) * f[i];
     });
-    kick_rotation(world, dt);
+    kick_rotation<D>(world, dt);
   }
 
  private:
