@@ -31,9 +31,6 @@
 #include "systems/srd/streaming.hpp"
 #include "systems/srd/srd_walls.hpp"
 #include "systems/srd/thermostat.hpp"
-#if GRANFLOW_HAVE_CUDA
-#include "systems/srd/srd_device_step.hpp"
-#endif
 
 namespace granflow::srd {
 
@@ -210,33 +207,11 @@ inline RotationParameters rotation_from(const Config& c) {
 }
 
 // The step on a CUDA device (srd_device_step.hpp), or why it cannot run.
+// Defined in srd_device_setup.cpp, the one file that differs between a
+// build with the CUDA back end and one without.
 template <int D>
-void add_device_step([[maybe_unused]] Run& run, [[maybe_unused]] const SrdCells<D>& cells,
-                     [[maybe_unused]] std::size_t particles, [[maybe_unused]] const BodyForce<D>& force,
-                     [[maybe_unused]] std::uint64_t reorder_interval, [[maybe_unused]] bool walled) {
-#if GRANFLOW_HAVE_CUDA
-  const Config& c = run.config();
-  if (const std::string why = cuda::srd_device_unavailable(); !why.empty())
-    throw ConfigError("srd.device = \"cuda\": " + why + "; use srd.device = \"cpu\" on this machine");
-  DeviceStepParameters p;
-  p.dt = c.real("srd.time_step");
-  p.shear_rate = c.real("shear.rate");
-  for (int a = 0; a < D; ++a) p.force.acceleration[a] = force.acceleration[a];
-  p.force.slab_axis = force.slab_axis;
-  p.force.from = force.from;
-  p.force.to = force.to;
-  p.rotation = rotation_from(c);
-  p.grid_shift = c.boolean("srd.grid_shift");
-  p.seed = run.seed();
-  p.reorder_interval = reorder_interval;
-  p.thermostat = c.real("thermostat.temperature");
-  p.thermostat_removes_drift = !walled;
-  run.step<SrdDeviceStep<D>>(p, cells, particles);
-#else
-  throw ConfigError("srd.device = \"cuda\": this build has no CUDA back end; configure with -DGRANFLOW_CUDA=ON "
-                    "(needs nvcc) or use srd.device = \"cpu\"");
-#endif
-}
+void add_device_step(Run& run, const SrdCells<D>& cells, std::size_t particles, const BodyForce<D>& force,
+                     std::uint64_t reorder_interval, bool walled);
 
 // The initial fluid, the cells resource, the box and the step chain.
 template <int D>
