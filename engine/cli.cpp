@@ -153,6 +153,13 @@ int main(int argc, char** argv) {
   sweep->add_option("-j,--jobs", sweep_options.workers, "runs at a time (default: all cores)")
       ->check(CLI::Range(1, 4096));
   sweep->add_option("-o,--output", sweep_output, "result directory (default: the file's `output`)");
+  std::string shard_text;
+  sweep->add_option("--shard", shard_text,
+                    "run only the I-th of N disjoint parts of the sweep (I/N, e.g. a job array's task index); "
+                    "no summary: --collect writes it");
+  sweep->add_flag("--collect", sweep_options.collect,
+                  "run nothing: write the summary from the result files of all shards and name the runs missing "
+                  "or failed");
   sweep->add_flag("-q,--quiet", quiet, "no progress or info messages");
 
   auto* list = app.add_subcommand("list", "list scenarios and systems");
@@ -191,6 +198,12 @@ int main(int argc, char** argv) {
     if (*sweep) {
       if (quiet) spdlog::set_level(spdlog::level::warn);
       sweep_options.progress = !quiet;
+      if (!shard_text.empty()) {
+        if (sweep_options.collect)
+          throw ConfigError("--shard and --collect go in separate calls: each shard runs its part, then one "
+                            "--collect writes the summary");
+        sweep_options.shard = parse_shard(shard_text);
+      }
       return run_sweep(read_sweep_plan(sweep_file, sweep_output), sweep_options);
     }
     if (*list) list_command();

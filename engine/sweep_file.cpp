@@ -116,11 +116,12 @@ std::vector<Assignment> listed_points(const toml::array* list, const std::string
 SweepFile parse_sweep_text(const std::string& text, const std::string& name) {
   const std::string what = "sweep file " + name;
   const toml::table table = parse_toml_text(text, name, what);
-  const std::set<std::string> known{"scenario_file", "output", "repeats", "summary", "set", "grid", "zip", "points"};
+  const std::set<std::string> known{"scenario_file", "output", "repeats", "summary", "cost",
+                                    "set",           "grid",   "zip",     "points"};
   for (const auto& [key, node] : table)
     if (!known.contains(std::string(key.str())))
       throw plan_error(name, fmt::format("unknown key '{}'; allowed: scenario_file, output, repeats, summary, "
-                                         "set, grid, zip, points",
+                                         "cost, set, grid, zip, points",
                                          key.str()));
   SweepFile file;
   const auto scenario_file = table["scenario_file"].value_exact<std::string>();
@@ -138,15 +139,20 @@ SweepFile parse_sweep_text(const std::string& text, const std::string& name) {
                                          *repeats));
     file.repeats = static_cast<std::size_t>(*repeats);
   }
-  if (table.contains("summary")) {
-    const auto* summary = table["summary"].as_array();
-    if (!summary) throw plan_error(name, "summary must be an array of observable names");
-    for (const auto& entry : *summary) {
+  // An array of strings, or the error that says what `key` must be.
+  const auto names = [&](const char* key, const char* what_it_is, std::vector<std::string>& out) {
+    if (!table.contains(key)) return;
+    const auto* array = table[key].as_array();
+    const std::string must = fmt::format("{} must be an array of {}", key, what_it_is);
+    if (!array) throw plan_error(name, must);
+    for (const auto& entry : *array) {
       const auto text_value = entry.value_exact<std::string>();
-      if (!text_value) throw plan_error(name, "summary must be an array of observable names");
-      file.summary.push_back(*text_value);
+      if (!text_value) throw plan_error(name, must);
+      out.push_back(*text_value);
     }
-  }
+  };
+  names("summary", "observable names", file.summary);
+  names("cost", "configuration keys (a run's expected cost grows as the product of their values)", file.cost);
   if (table.contains("set")) {
     const auto* fixed = table["set"].as_table();
     if (!fixed) throw plan_error(name, "[set] must be a table of key = value");

@@ -21,6 +21,7 @@ struct SweepFile {
   std::optional<std::string> output;
   std::size_t repeats = 1;
   std::vector<std::string> summary;
+  std::vector<std::string> cost;    // keys whose product estimates a run's cost (shards)
   Assignment fixed;                 // [set]
   std::vector<Assignment> points;   // at least one (possibly empty) point
 };

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "engine/rng.hpp"
@@ -17,6 +18,24 @@ namespace {
 
 ConfigError plan_error(const std::string& file, const std::string& what) {
   return ConfigError(fmt::format("sweep file {}: {}", file, what));
+}
+
+// The product of the cost keys' values in `config` (an array counts as the
+// product of its entries: a box's volume).
+double run_cost(const Config& config, const std::vector<std::string>& keys, const std::string& file) {
+  double cost = 1.0;
+  for (const auto& key : keys) {
+    if (!config.schema().find(key)) throw plan_error(file, fmt::format("cost key '{}' is not a configuration key", key));
+    const ConfigValue& value = config.values().at(key);
+    if (const auto* integer = std::get_if<std::int64_t>(&value)) cost *= static_cast<double>(*integer);
+    else if (const auto* real = std::get_if<double>(&value)) cost *= *real;
+    else if (const auto* reals = std::get_if<std::vector<double>>(&value))
+      for (double r : *reals) cost *= r;
+    else throw plan_error(file, fmt::format("cost key '{}' is not a number or an array of numbers", key));
+  }
+  if (!(cost > 0.0) || !std::isfinite(cost))
+    throw plan_error(file, fmt::format("the cost keys give a run a cost of {}; it must be positive and finite", cost));
+  return cost;
 }
 
 }  // namespace
@@ -41,6 +60,7 @@ SweepPlan read_sweep_plan(const std::string& sweep_file, const std::string& outp
                                              file.points.size(), file.repeats, file.points.size() * file.repeats,
                                              10 * max_sweep_points));
   plan.summary = file.summary;
+  plan.cost_keys = file.cost;
 
   Config base = Config::from_file(scenario_registry().schema(scenario->name), plan.scenario_file.string());
   for (const auto& [key, value] : file.fixed) base.apply_override(key + "=" + value);
@@ -77,6 +97,7 @@ SweepPlan read_sweep_plan(const std::string& sweep_file, const std::string& outp
     for (std::size_t r = 0; r < plan.repeats; ++r) {
       SweepRun run{p, r, repeat_seed(base_seed, r), config, {}};
       if (plan.repeats > 1) run.config.set("run.seed", run.seed);
+      run.cost = run_cost(run.config, plan.cost_keys, sweep_file);
       run.output = plan.directory / fmt::format("p{:0{}}_r{:02}.h5md", p, digits, r);
       plan.runs.push_back(std::move(run));
     }

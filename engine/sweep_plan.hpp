@@ -20,6 +20,7 @@ struct SweepRun {
   std::int64_t seed;
   Config config;
   std::filesystem::path output;
+  double cost = 1.0;  // expected, relative: the product of the plan's cost keys
 };
 
 struct SweepPlan {
@@ -31,6 +32,7 @@ struct SweepPlan {
   std::vector<std::vector<std::string>> parameter_values;
   std::size_t repeats = 1;
   std::vector<std::string> summary;
+  std::vector<std::string> cost_keys;
   std::vector<SweepRun> runs;  // parameter point major, repeat minor
 };
 

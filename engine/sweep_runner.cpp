@@ -231,6 +231,135 @@ void write_summary(const SweepPlan& plan, const std::vector<std::vector<double>>
   file.finish();
 }
 
+
+// RESULT.status: the outcome of a run's last attempt, and why it failed.
+std::filesystem::path status_path(const SweepRun& run) { return run.output.string() + ".status"; }
+
+// Written whole or not at all, like the result files.
+void write_text_file(const std::filesystem::path& path, const std::string& text) {
+  const auto partial = path.string() + ".partial";
+  {
+    std::ofstream out(partial);
+    out << text;
+    if (!out.flush()) throw std::runtime_error("cannot write " + partial);
+  }
+  std::filesystem::rename(partial, path);
+}
+
+void record_status(const SweepRun& run, const std::string& outcome, const std::string& why) {
+  std::string reason = why;
+  std::replace(reason.begin(), reason.end(), '\n', ' ');
+  write_text_file(status_path(run), outcome + "\n" + reason + "\n");
+}
+
+// The first line of RESULT.status (the outcome), and the second (why it failed).
+std::optional<std::string> recorded_status(const SweepRun& run, std::string* why = nullptr) {
+  std::ifstream in(status_path(run));
+  std::string outcome;
+  if (!in || !std::getline(in, outcome) || outcome.empty()) return std::nullopt;
+  if (why) std::getline(in, *why);
+  return outcome;
+}
+
+// The summary tables from the result files at hand and the runs' status.
+void write_summary_of(const SweepPlan& plan, const std::vector<std::string>& status) {
+  std::vector<std::vector<double>> values(plan.runs.size(),
+                                          std::vector<double>(plan.summary.size(), std::nan("")));
+  std::vector<std::string> stop_reason(plan.runs.size());
+  std::vector<std::string> units;
+  for (std::size_t k = 0; k < plan.runs.size(); ++k) {
+    if (status[k] == "failed" || status[k] == "missing" || !std::filesystem::exists(plan.runs[k].output)) continue;
+    const H5mdReader reader(plan.runs[k].output.string());
+    if (units.empty())
+      for (const auto& name : plan.summary) units.push_back(summary_unit(reader, name));
+    try {
+      stop_reason[k] = reader.string_attribute("/observables", "stop_reason");
+    } catch (const H5Error&) {
+    }
+    for (std::size_t o = 0; o < plan.summary.size(); ++o)
+      values[k][o] = summary_value(reader, plan.summary[o], plan.runs[k].output.string());
+  }
+  units.resize(plan.summary.size());
+  write_summary(plan, values, units, status, stop_reason);
+}
+
+// SHARD_RECORD: one line per run of the shard, its file and its status.
+void write_shard_record(const SweepPlan& plan, const Shard& shard, const std::vector<bool>& mine,
+                        const std::vector<std::string>& status) {
+  std::string text;
+  for (std::size_t k = 0; k < plan.runs.size(); ++k)
+    if (mine[k]) text += plan.runs[k].output.filename().string() + " " + status[k] + "\n";
+  write_text_file(plan.directory / shard_record_name(shard.index, shard.count), text);
+}
+
+// The shard counts N of the shard records in the directory.
+std::vector<std::size_t> recorded_shard_counts(const SweepPlan& plan) {
+  std::vector<std::size_t> counts;
+  for (const auto& entry : std::filesystem::directory_iterator(plan.directory)) {
+    const std::string name = entry.path().filename().string();
+    const auto of = name.find("_of_");
+    if (name.rfind("shard_", 0) != 0 || of == std::string::npos || entry.path().extension() != ".txt") continue;
+    try {
+      const std::size_t n = std::stoul(name.substr(of + 4));
+      if (n > 0 && std::find(counts.begin(), counts.end(), n) == counts.end()) counts.push_back(n);
+    } catch (const std::exception&) {
+    }
+  }
+  std::sort(counts.begin(), counts.end());
+  return counts;
+}
+
+// --collect: the summary of what the shards left, and an error naming each
+// failed run and each missing one (by shard, where shard records tell N).
+int collect_summary(const SweepPlan& plan, const std::vector<std::string>& status) {
+  write_summary_of(plan, status);
+  std::vector<std::size_t> missing;
+  std::size_t not_done = 0;
+  for (std::size_t k = 0; k < plan.runs.size(); ++k) {
+    if (status[k] == "done") continue;
+    ++not_done;
+    if (status[k] == "missing") {
+      missing.push_back(k);
+      continue;
+    }
+    std::string why;
+    recorded_status(plan.runs[k], &why);
+    spdlog::error("{}: {}{}", plan.runs[k].output.filename().string(), status[k], why.empty() ? "" : ": " + why);
+  }
+  const auto names = [&](const std::vector<std::size_t>& runs) {
+    std::vector<std::string> out;
+    for (const std::size_t k : runs) out.push_back(plan.runs[k].output.filename().string());
+    return fmt::format("{}", fmt::join(out, ", "));
+  };
+  if (!missing.empty()) {
+    const auto counts = recorded_shard_counts(plan);
+    if (counts.empty()) {
+      spdlog::error("{} of {} runs have no result: {}", missing.size(), plan.runs.size(), names(missing));
+    } else {
+      for (const std::size_t count : counts) {
+        const auto shard = shard_of_runs(plan, count);
+        for (std::size_t i = 0; i < count; ++i) {
+          std::vector<std::size_t> its;
+          std::size_t size = 0;
+          for (std::size_t k = 0; k < plan.runs.size(); ++k)
+            if (shard[k] == i) ++size;
+          for (const std::size_t k : missing)
+            if (shard[k] == i) its.push_back(k);
+          if (its.empty()) continue;
+          const std::string record = shard_record_name(i + 1, count);
+          const bool ran = std::filesystem::exists(plan.directory / record);
+          spdlog::error("shard {}/{} {}: {} of its {} runs have no result: {}", i + 1, count,
+                        ran ? "ran but did not finish them" : fmt::format("has not finished (no {})", record),
+                        its.size(), size, names(its));
+        }
+      }
+    }
+  }
+  spdlog::info("sweep collected: {} runs, {} not finished normally ({} without a result); summary in {}",
+               plan.runs.size(), not_done, missing.size(), (plan.directory / "summary.csv").string());
+  return not_done ? 3 : 0;
+}
+
 }  // namespace
 
 int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
@@ -238,24 +367,40 @@ int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
   if (!scenario) throw ConfigError(fmt::format("unknown scenario '{}'", plan.scenario));
   std::filesystem::create_directories(plan.directory);
 
+  // The runs this invocation is about: all, or one shard's.
+  std::vector<bool> mine(plan.runs.size(), true);
+  if (options.shard.count > 0) {
+    const auto shard = shard_of_runs(plan, options.shard.count);
+    for (std::size_t k = 0; k < plan.runs.size(); ++k) mine[k] = shard[k] == options.shard.index - 1;
+  }
   std::vector<std::string> status(plan.runs.size(), "pending");
   std::vector<std::size_t> todo;
   for (std::size_t k = 0; k < plan.runs.size(); ++k) {
     if (finished(plan.runs[k]))
-      status[k] = "done";
-    else
+      status[k] = recorded_status(plan.runs[k]).value_or("done");
+    else if (options.collect)
+      status[k] = recorded_status(plan.runs[k]) == "failed" ? "failed" : "missing";
+    else if (mine[k])
       todo.push_back(k);
   }
+  if (options.collect) return collect_summary(plan, status);
+
+  const std::size_t assigned = static_cast<std::size_t>(std::count(mine.begin(), mine.end(), true));
+  // Names are checked against a result already there, if any (another
+  // shard's counts as well).
   bool summary_checked = false;
-  if (todo.size() < plan.runs.size()) {
-    const auto reused = std::find(status.begin(), status.end(), "done") - status.begin();
-    check_summary_names(plan, plan.runs[static_cast<std::size_t>(reused)].output);
-    summary_checked = true;
-  }
+  for (std::size_t k = 0; k < plan.runs.size() && !summary_checked; ++k)
+    if (status[k] != "pending" && std::filesystem::exists(plan.runs[k].output)) {
+      check_summary_names(plan, plan.runs[k].output);
+      summary_checked = true;
+    }
   const int workers = options.workers > 0 ? options.workers : tbb::this_task_arena::max_concurrency();
-  spdlog::info("sweep of {}: {} parameter points x {} repeats = {} runs, {} already done, {} workers, results in {}",
-               plan.scenario, plan.parameter_values.size(), plan.repeats, plan.runs.size(),
-               plan.runs.size() - todo.size(), workers, plan.directory.string());
+  const std::string part =
+      options.shard.count ? fmt::format(", shard {}/{}: {} runs", options.shard.index, options.shard.count, assigned)
+                          : "";
+  spdlog::info("sweep of {}: {} parameter points x {} repeats = {} runs{}, {} already done, {} workers, results in {}",
+               plan.scenario, plan.parameter_values.size(), plan.repeats, plan.runs.size(), part,
+               assigned - todo.size(), workers, plan.directory.string());
 
   // Points log only warnings; the sweep reports its own progress.
   const auto level = spdlog::get_level();
@@ -277,15 +422,17 @@ int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
             run_options.output_path = plan.runs[k].output.string();
             run_options.progress = false;
             run_options.handle_signals = false;
-            std::string outcome;
+            std::string outcome, why;
             try {
               const int code = run_scenario(*scenario, plan.runs[k].config, run_options);
               outcome = code == 0 ? "done" : fmt::format("stopped (exit {})", code);
             } catch (const std::exception& error) {
               outcome = "failed";
+              why = error.what();
               std::lock_guard lock(report);
-              spdlog::error("{}: {}", plan.runs[k].output.string(), error.what());
+              spdlog::error("{}: {}", plan.runs[k].output.string(), why);
             }
+            record_status(plan.runs[k], outcome, why);
             std::lock_guard lock(report);
             status[k] = outcome;
             if (!summary_checked && std::filesystem::exists(plan.runs[k].output)) {
@@ -300,8 +447,7 @@ int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
             const std::size_t finished_runs = ++done;
             progress.update(static_cast<double>(finished_runs) / static_cast<double>(todo.size()),
                             static_cast<double>(finished_runs),
-                            fmt::format("{}/{} runs done", plan.runs.size() - todo.size() + finished_runs,
-                                        plan.runs.size()));
+                            fmt::format("{}/{} runs done", assigned - todo.size() + finished_runs, assigned));
           }
         },
         tbb::simple_partitioner());
@@ -310,25 +456,17 @@ int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
   spdlog::set_level(level);
   if (summary_error) throw *summary_error;
 
-  std::vector<std::vector<double>> values(plan.runs.size(),
-                                          std::vector<double>(plan.summary.size(), std::nan("")));
-  std::vector<std::string> stop_reason(plan.runs.size());
-  std::vector<std::string> units;
-  for (std::size_t k = 0; k < plan.runs.size(); ++k) {
-    if (status[k] == "failed" || !std::filesystem::exists(plan.runs[k].output)) continue;
-    const H5mdReader reader(plan.runs[k].output.string());
-    if (units.empty())
-      for (const auto& name : plan.summary) units.push_back(summary_unit(reader, name));
-    try {
-      stop_reason[k] = reader.string_attribute("/observables", "stop_reason");
-    } catch (const H5Error&) {
-    }
-    for (std::size_t o = 0; o < plan.summary.size(); ++o) values[k][o] = summary_value(reader, plan.summary[o], plan.runs[k].output.string());
+  std::size_t failures = 0;
+  for (std::size_t k = 0; k < plan.runs.size(); ++k)
+    if (mine[k] && status[k] != "done") ++failures;
+  if (options.shard.count > 0) {
+    write_shard_record(plan, options.shard, mine, status);
+    spdlog::info("shard {}/{} finished: {} runs, {} newly run, {} not finished normally; `granflow sweep FILE "
+                 "--collect` writes the summary once every shard has run",
+                 options.shard.index, options.shard.count, assigned, todo.size(), failures);
+    return failures ? 3 : 0;
   }
-  units.resize(plan.summary.size());
-  write_summary(plan, values, units, status, stop_reason);
-  const auto failures = static_cast<std::size_t>(
-      std::count_if(status.begin(), status.end(), [](const auto& s) { return s != "done"; }));
+  write_summary_of(plan, status);
   spdlog::info("sweep finished: {} runs, {} newly run, {} not finished normally; summary in {}", plan.runs.size(),
                todo.size(), failures, (plan.directory / "summary.csv").string());
   return failures ? 3 : 0;

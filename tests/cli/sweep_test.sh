@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # granflow sweep: the same sweep with 1 and 2 workers gives identical
 # summaries; a sweep killed with SIGKILL and run again finishes the missing
-# points and gives the same summary as an uninterrupted one; bad sweep files
-# exit with status 2 and a message naming the problem.
+# points and gives the same summary as an uninterrupted one; three shards
+# and --collect give the same summary, and a missing shard is named; bad
+# sweep files exit with status 2 and a message naming the problem.
 set -u
 granflow="$1"
 scenario="$2"
@@ -42,18 +43,43 @@ grep -q '^point,runs,collision.restitution,temperature_mean,temperature_stderr' 
 "$granflow" sweep "$work/sweep.toml" -j 2 -o "$work/killed" -q &
 pid=$!
 for _ in $(seq 1 600); do
-  done_runs=$(ls "$work/killed"/p*_r*.h5 2>/dev/null | wc -l)
+  done_runs=$(ls "$work/killed"/p*_r*.h5md 2>/dev/null | wc -l)
   [[ $done_runs -ge 2 ]] && break
   sleep 0.02
 done
 kill -9 "$pid" 2>/dev/null; wait "$pid" 2>/dev/null
-left=$(ls "$work/killed"/p*_r*.h5 2>/dev/null | wc -l)
+left=$(ls "$work/killed"/p*_r*.h5md 2>/dev/null | wc -l)
 echo "killed with $left of 8 runs complete"
 [[ $left -lt 8 ]] || fail "the sweep finished before it could be killed; the resume path was not exercised"
 "$granflow" sweep "$work/sweep.toml" -j 2 -o "$work/killed" -q || fail "resumed sweep exited with $?"
 if cmp -s "$work/one/summary.csv" "$work/killed/summary.csv"; then echo "ok: resumed summary identical"
 else fail "resumed summary differs"; diff "$work/one/summary.csv" "$work/killed/summary.csv"; fi
 ls "$work/killed"/*.partial >/dev/null 2>&1 && fail "partial files left after the resumed sweep"
+
+# Shards for job arrays: 1/3, 2/3 and 3/3, then --collect, give the summary
+# of the one-machine sweep; before shard 2 has run, --collect names it and
+# its runs.
+for shard in 1 3; do
+  "$granflow" sweep "$work/sweep.toml" -j 2 -o "$work/shards" -q --shard "$shard/3" \
+    || fail "shard $shard/3 exited with $?"
+done
+output=$("$granflow" sweep "$work/sweep.toml" -o "$work/shards" --collect 2>&1); status=$?
+[[ $status -eq 3 && "$output" == *"shard 2/3 has not finished (no shard_2_of_3.txt)"* && "$output" == *".h5md"* ]] \
+  && echo "ok: --collect names the missing shard and its runs" \
+  || fail "--collect with shard 2/3 missing: exit $status: $output"
+"$granflow" sweep "$work/sweep.toml" -j 2 -o "$work/shards" -q --shard 2/3 || fail "shard 2/3 exited with $?"
+"$granflow" sweep "$work/sweep.toml" -o "$work/shards" -q --collect || fail "--collect exited with $?"
+for table in summary.csv summary_runs.csv; do
+  if cmp -s "$work/one/$table" "$work/shards/$table"; then echo "ok: $table of three shards identical"
+  else fail "$table differs between one machine and three shards"; diff "$work/one/$table" "$work/shards/$table"; fi
+done
+listed=$(cat "$work/shards"/shard_*_of_3.txt | awk '{print $1}' | sort -u | wc -l)
+lines=$(cat "$work/shards"/shard_*_of_3.txt | wc -l)
+[[ $listed -eq 8 && $lines -eq 8 ]] && echo "ok: each of the 8 runs in exactly one shard" \
+  || fail "shard records list $lines runs, $listed distinct, expected 8"
+output=$("$granflow" sweep "$work/sweep.toml" -o "$work/shards" -q --shard 4/3 2>&1); status=$?
+[[ $status -eq 2 && "$output" == *"--shard '4/3'"* ]] && echo "ok: --shard 4/3 refused" \
+  || fail "--shard 4/3: exit $status: $output"
 
 expect_error() {  # expect_error "needle" sweep-file-text
   local needle="$1" text="$2" output status
@@ -81,6 +107,10 @@ repeats = 0"
 expect_error "must be a non-empty array" "scenario_file = \"$scenario\"
 [grid]
 collision.restitution = 0.5"
+expect_error "cost key 'system.cuont' is not a configuration key" "scenario_file = \"$scenario\"
+cost = [\"system.cuont\"]"
+expect_error "cost must be an array of configuration keys" "scenario_file = \"$scenario\"
+cost = \"system.count\""
 # A misspelt summary name stops the sweep after its first run, naming the
 # name and the scalar observables there are.
 cat > "$work/misspelt.toml" <<TOML

@@ -1,6 +1,6 @@
 // Sweep files: grid x zip x listed points in a defined order, fixed [set]
 // overrides, repeats with distinct reproducible seeds, output names, and
-// errors that name the problem.
+// errors that name the problem; shards balanced by the runs' expected cost.
 
 #include <gtest/gtest.h>
 
@@ -9,6 +9,7 @@
 #include <set>
 
 #include "engine/sweep_plan.hpp"
+#include "engine/sweep_shards.hpp"
 
 namespace granflow {
 namespace {
@@ -68,6 +69,42 @@ system.boundary = ["periodic", "reflecting"]
   EXPECT_NE(repeat_seed(1, 1), repeat_seed(1, 2));
   EXPECT_NE(repeat_seed(1, 1), repeat_seed(2, 1));
   EXPECT_GE(repeat_seed(1, 7), 0);
+}
+
+TEST(SweepShards, TheCostKeysBalanceTheShards) {
+  const auto file = write_sweep("cost.toml", R"(
+cost = ["system.count", "run.t_stop"]
+[set]
+"run.t_stop" = 2.0
+[grid]
+"system.count" = [1000, 100, 400, 300, 200]
+)");
+  const SweepPlan plan = read_sweep_plan(file);
+  ASSERT_EQ(plan.runs.size(), 5u);
+  EXPECT_DOUBLE_EQ(plan.runs[0].cost, 2000.0);
+  EXPECT_DOUBLE_EQ(plan.runs[1].cost, 200.0);
+  // Longest first, each to the shard with less work: the large run alone,
+  // the four others (800 + 600 + 400 + 200) together.
+  EXPECT_EQ(shard_of_runs(plan, 2), (std::vector<std::size_t>{0, 1, 1, 1, 1}));
+  // Without cost keys, by count: round robin.
+  const auto even = read_sweep_plan(write_sweep("even.toml", R"(
+[grid]
+"system.count" = [1000, 100, 400, 300, 200]
+)"));
+  EXPECT_EQ(shard_of_runs(even, 3), (std::vector<std::size_t>{0, 1, 2, 0, 1}));
+  // Every run in exactly one shard, for any count.
+  for (std::size_t count : {1, 2, 5, 7}) {
+    const auto shard = shard_of_runs(plan, count);
+    for (std::size_t s : shard) EXPECT_LT(s, count);
+  }
+}
+
+TEST(SweepShards, ShardTextIsIOverN) {
+  const Shard shard = parse_shard("2/3");
+  EXPECT_EQ(shard.index, 2u);
+  EXPECT_EQ(shard.count, 3u);
+  for (const char* bad : {"0/3", "4/3", "a/3", "3", "2/", "/3", "2/3x", "-1/3"})
+    EXPECT_THROW(parse_shard(bad), ConfigError) << bad;
 }
 
 TEST(SweepPlan, ErrorsNameTheProblem) {
