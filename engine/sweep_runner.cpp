@@ -12,6 +12,7 @@
 #include <fstream>
 #include <mutex>
 #include <optional>
+#include <sstream>
 
 #include "engine/h5_handle.hpp"
 #include "engine/h5md_file.hpp"
@@ -136,25 +137,31 @@ struct Column {
   std::vector<double> numbers;     // numeric columns
 };
 
-void write_csv(const std::filesystem::path& path, const std::vector<Column>& columns) {
+// Written to FILE.partial and renamed: whole or not at all, like the result files.
+void write_text_file(const std::filesystem::path& path, const std::string& text) {
   const auto partial = path.string() + ".partial";
   {
     std::ofstream out(partial);
-    if (!out) throw std::runtime_error("cannot write " + partial);
-    for (std::size_t c = 0; c < columns.size(); ++c) out << (c ? "," : "") << csv_field(columns[c].name);
-    out << '\n';
-    const std::size_t rows = columns.empty() ? 0
-                             : columns.front().texts.empty() ? columns.front().numbers.size()
-                                                             : columns.front().texts.size();
-    for (std::size_t r = 0; r < rows; ++r) {
-      for (std::size_t c = 0; c < columns.size(); ++c)
-        out << (c ? "," : "")
-            << (columns[c].texts.empty() ? number_text(columns[c].numbers[r]) : csv_field(columns[c].texts[r]));
-      out << '\n';
-    }
+    out << text;
     if (!out.flush()) throw std::runtime_error("cannot write " + partial);
   }
   std::filesystem::rename(partial, path);
+}
+
+void write_csv(const std::filesystem::path& path, const std::vector<Column>& columns) {
+  std::ostringstream out;
+  for (std::size_t c = 0; c < columns.size(); ++c) out << (c ? "," : "") << csv_field(columns[c].name);
+  out << '\n';
+  const std::size_t rows = columns.empty() ? 0
+                           : columns.front().texts.empty() ? columns.front().numbers.size()
+                                                           : columns.front().texts.size();
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t c = 0; c < columns.size(); ++c)
+      out << (c ? "," : "")
+          << (columns[c].texts.empty() ? number_text(columns[c].numbers[r]) : csv_field(columns[c].texts[r]));
+    out << '\n';
+  }
+  write_text_file(path, out.str());
 }
 
 void write_h5_group(H5mdFile& file, const std::string& group, const std::vector<Column>& columns) {
@@ -234,17 +241,6 @@ void write_summary(const SweepPlan& plan, const std::vector<std::vector<double>>
 
 // RESULT.status: the outcome of a run's last attempt, and why it failed.
 std::filesystem::path status_path(const SweepRun& run) { return run.output.string() + ".status"; }
-
-// Written whole or not at all, like the result files.
-void write_text_file(const std::filesystem::path& path, const std::string& text) {
-  const auto partial = path.string() + ".partial";
-  {
-    std::ofstream out(partial);
-    out << text;
-    if (!out.flush()) throw std::runtime_error("cannot write " + partial);
-  }
-  std::filesystem::rename(partial, path);
-}
 
 void record_status(const SweepRun& run, const std::string& outcome, const std::string& why) {
   std::string reason = why;

@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "components/angular_velocity.hpp"
@@ -105,6 +106,10 @@ class DemContactForces : public System {
     }
     if (candidates_of_build_ != nl.builds || wall_candidates_.size() != walls) find_wall_candidates(world, in, nl);
     for (auto& partial : wall_partial_) partial.assign(wall_sums * slabs, 0.0);
+    // Where each wall is and how fast it moves, once per step, not per slab.
+    const double t = world.resource<Clock>().time;
+    wall_motion_.resize(walls);
+    for (std::size_t wi = 0; wi < walls; ++wi) wall_motion_[wi] = {in.walls[wi].position(t), in.walls[wi].velocity(t)};
     // Each thread its own domain of spheres and slabs (thread_domains.hpp):
     // first their weights and wall contacts, then the pairs of their slabs
     // of one parity, then of the other. Slab s gives forces to s and s + 1
@@ -328,7 +333,6 @@ class DemContactForces : public System {
   // another (a sphere may touch two), summed per slab.
   template <bool Rotating>
   void walls_on_candidates(World& world, const DemInteractions<D>& in, NeighbourList<D>& nl, std::size_t slab) {
-    const double t = world.resource<Clock>().time;
     const auto& x = world.component<Position<D>>();
     const auto& v = world.component<Velocity<D>>();
     const auto& radius = world.component<Radius>();
@@ -341,7 +345,7 @@ class DemContactForces : public System {
     const TangentialFriction friction = in.friction;
     for (std::size_t wi = 0; wi < walls; ++wi) {
       const DemWall& w = in.walls[wi];
-      const double at = w.position(t), speed = w.velocity(t);
+      const auto [at, speed] = wall_motion_[wi];
       const auto& list = wall_candidates_[wi];
       const auto& start = wall_candidate_start_[wi];
       double* out = &wall_partial_[wi][wall_sums * slab];
@@ -389,6 +393,7 @@ class DemContactForces : public System {
   std::vector<std::vector<std::uint32_t>> wall_candidate_start_;  // per wall: slab s's from [s] to [s + 1]
   std::uint64_t candidates_of_build_ = ~std::uint64_t{0};
   std::vector<std::vector<double>> wall_partial_;
+  std::vector<std::pair<double, double>> wall_motion_;  // per wall: position and velocity now
   std::vector<double> pair_partial_;
   bool mass_checked_ = false, uniform_mass_ = false, same_radius_ = false;
 };

@@ -111,7 +111,7 @@ struct NeighbourList : Stateful {
   // The largest squared displacement since the build, as the drift of step
   // displacement_step measured it (the list's own test is then not needed).
   double displacement_squared = 0.0;
-  std::uint64_t displacement_step = ~std::uint64_t{0};
+  std::int64_t displacement_step = -1;
   std::size_t walls = 0;
   std::uint64_t builds = 0;
 
@@ -156,7 +156,7 @@ struct NeighbourList : Stateful {
       for (std::size_t k = 0; k < to.size(); ++k) to[k] = {in[3 * k], in[3 * k + 1], in[3 * k + 2]};
     }
     builds = static_cast<std::uint64_t>(s.at("builds").at(0));
-    displacement_step = ~std::uint64_t{0};
+    displacement_step = -1;
     if (offsets.size() != order.size() + 1 || list.size() != offsets.back() || slabs.empty() ||
         slabs.back() != order.size())
       throw std::invalid_argument("checkpoint neighbour lists are inconsistent");
