@@ -4,6 +4,12 @@
 // until it crosses into another cell (a scheduled event). Membership is an
 // intrusive singly linked list per cell; cells hold about one particle, so
 // unlinking by a short walk is cheaper than storing back links.
+//
+// The grid has one layer of halo cells around the box, so every cell's 3^D
+// neighbours are fixed offsets in memory and no prediction wraps indices.
+// Across a periodic face a halo cell shares the list of the cell it images
+// (its head is kept equal to that cell's head); across a wall it stays empty.
+// A halo cell's particles are seen shifted by one box length (shift()).
 
 #include <algorithm>
 #include <array>
@@ -13,6 +19,7 @@
 #include <vector>
 
 #include "components/box.hpp"
+#include "components/vector.hpp"
 
 namespace granflow::edmd {
 
@@ -20,8 +27,11 @@ template <int D>
 class CellGrid {
  public:
   static constexpr int neighbour_count = D == 2 ? 9 : 27;
+  // Shift slot of a neighbour on the same side of every periodic face.
+  static constexpr std::uint8_t unshifted = (neighbour_count - 1) / 2;
   // Memory bound: at most this many cells (4 bytes each) per particle.
   static constexpr std::size_t max_cells_per_particle = 3;
+  using Coordinates = std::array<std::int32_t, D>;
 
   CellGrid() = default;
   CellGrid(const Box<D>& box, double min_width, std::size_t particle_count) { reset(box, min_width, particle_count); }
@@ -42,15 +52,18 @@ class CellGrid {
     if (static_cast<double>(total) > limit) {
       const double shrink = std::cbrt(static_cast<double>(total) / limit);
       const double factor = D == 3 ? shrink : std::sqrt(shrink * shrink * shrink);
-      total = 1;
       for (int a = 0; a < D; ++a) {
         count_[a] = std::max(1, static_cast<std::int32_t>(std::floor(count_[a] / factor)));
         width_[a] = box.length[a] / count_[a];
-        total *= static_cast<std::size_t>(count_[a]);
       }
     }
-    stride_[0] = 1;
-    for (int a = 1; a < D; ++a) stride_[a] = stride_[a - 1] * count_[a - 1];
+    std::size_t padded_total = 1;
+    for (int a = 0; a < D; ++a) {
+      periodic_[a] = box.periodic[a];
+      length_[a] = box.length[a];
+      stride_[a] = static_cast<std::int32_t>(padded_total);
+      padded_total *= static_cast<std::size_t>(count_[a] + 2);
+    }
     // Linear offsets of the 3^D neighbours, first axis fastest.
     for (int n = 0; n < neighbour_count; ++n) {
       std::int32_t offset = 0, rest = n;
@@ -60,44 +73,91 @@ class CellGrid {
       }
       neighbour_offset_[static_cast<std::size_t>(n)] = offset;
     }
-    head_.assign(total, -1);
+    for (int slot = 0; slot < neighbour_count; ++slot)
+      for (int a = 0, rest = slot; a < D; ++a, rest /= 3) shift_[static_cast<std::size_t>(slot)][a] = (rest % 3 - 1) * length_[a];
+    head_.assign(padded_total, -1);
     member_.assign(particle_count, Membership{-1, 0});
   }
 
   // Empties every cell, keeping the geometry.
-  void clear() {
-    std::fill(head_.begin(), head_.end(), -1);
-  }
+  void clear() { std::fill(head_.begin(), head_.end(), -1); }
 
   std::int32_t count(int axis) const { return count_[axis]; }
   double width(int axis) const { return width_[axis]; }
-  std::size_t cell_total() const { return head_.size(); }
+  // Cells inside the box (halo cells not counted).
+  std::size_t cell_total() const {
+    std::size_t total = 1;
+    for (int a = 0; a < D; ++a) total *= static_cast<std::size_t>(count_[a]);
+    return total;
+  }
   std::uint32_t cell_of(std::uint32_t i) const { return member_[i].cell; }
   std::int32_t head(std::uint32_t cell) const { return head_[cell]; }
   void prefetch_cell(std::uint32_t cell) const { __builtin_prefetch(&head_[cell]); }
   std::int32_t next(std::uint32_t i) const { return member_[i].next; }
+  std::int32_t neighbour_offset(int n) const { return neighbour_offset_[static_cast<std::size_t>(n)]; }
+  const Vec<D>* shifts() const { return shift_.data(); }
 
-  std::array<std::int32_t, D> coordinates(std::uint32_t cell) const {
-    std::array<std::int32_t, D> c{};
+  // Coordinates inside the box (0 .. count - 1) of a cell inside the box.
+  Coordinates coordinates(std::uint32_t cell) const {
+    Coordinates c{};
     for (int a = D - 1; a >= 0; --a) {
-      c[a] = static_cast<std::int32_t>(cell / static_cast<std::uint32_t>(stride_[a]));
-      cell -= static_cast<std::uint32_t>(c[a] * stride_[a]);
+      const auto padded = static_cast<std::int32_t>(cell / static_cast<std::uint32_t>(stride_[a]));
+      cell -= static_cast<std::uint32_t>(padded * stride_[a]);
+      c[a] = padded - 1;
     }
     return c;
   }
-  std::uint32_t linear(const std::array<std::int32_t, D>& c) const {
+  std::uint32_t linear(const Coordinates& c) const {
     std::int32_t cell = 0;
-    for (int a = 0; a < D; ++a) cell += c[a] * stride_[a];
+    for (int a = 0; a < D; ++a) cell += (c[a] + 1) * stride_[a];
     return static_cast<std::uint32_t>(cell);
   }
-  std::int32_t stride(int axis) const { return stride_[axis]; }
-  std::int32_t neighbour_offset(int n) const { return neighbour_offset_[static_cast<std::size_t>(n)]; }
+
+  // Whether some neighbour of the cell at c lies across a periodic face.
+  bool sees_images(const Coordinates& c) const {
+    bool images = false;
+    for (int a = 0; a < D; ++a) images = images || (periodic_[a] && (c[a] == 0 || c[a] == count_[a] - 1));
+    return images;
+  }
+
+  // Shift slot of each neighbour of the cell at c, in neighbour order.
+  std::array<std::uint8_t, neighbour_count> neighbour_shift_slots(const Coordinates& c) const {
+    std::array<std::array<std::int32_t, 3>, D> side{};
+    for (int a = 0; a < D; ++a)
+      for (int o = -1; o <= 1; ++o)
+        side[a][o + 1] = c[a] + o < 0 ? -1 : c[a] + o >= count_[a] ? 1 : 0;
+    std::array<std::uint8_t, neighbour_count> slots{};
+    for (int n = 0; n < neighbour_count; ++n) {
+      int slot = 0, weight = 1;
+      for (int a = 0, rest = n; a < D; ++a, rest /= 3, weight *= 3) slot += (side[a][rest % 3] + 1) * weight;
+      slots[static_cast<std::size_t>(n)] = static_cast<std::uint8_t>(slot);
+    }
+    return slots;
+  }
 
   // Cell containing a position inside the box.
-  std::uint32_t locate(const auto& x) const {
-    std::array<std::int32_t, D> c{};
+  std::uint32_t locate(const auto& x) const { return linear(locate_coordinates(x)); }
+  Coordinates locate_coordinates(const auto& x) const {
+    Coordinates c{};
     for (int a = 0; a < D; ++a)
       c[a] = std::clamp(static_cast<std::int32_t>(std::floor(x[a] / width_[a])), 0, count_[a] - 1);
+    return c;
+  }
+
+  // A cell's position in row order over the cells inside the box, which does
+  // not depend on the halo (for saved states), and back.
+  std::uint64_t serial(std::uint32_t cell) const {
+    const Coordinates c = coordinates(cell);
+    std::uint64_t index = 0;
+    for (int a = D - 1; a >= 0; --a) index = index * static_cast<std::uint64_t>(count_[a]) + static_cast<std::uint64_t>(c[a]);
+    return index;
+  }
+  std::uint32_t from_serial(std::uint64_t index) const {
+    Coordinates c{};
+    for (int a = 0; a < D; ++a) {
+      c[a] = static_cast<std::int32_t>(index % static_cast<std::uint64_t>(count_[a]));
+      index /= static_cast<std::uint64_t>(count_[a]);
+    }
     return linear(c);
   }
 
@@ -105,10 +165,17 @@ class CellGrid {
     member_[i].cell = cell;
     member_[i].next = head_[cell];
     head_[cell] = static_cast<std::int32_t>(i);
+    mirror(cell);
   }
 
   void erase(std::uint32_t i) {
-    std::int32_t* link = &head_[member_[i].cell];
+    const std::uint32_t cell = member_[i].cell;
+    std::int32_t* link = &head_[cell];
+    if (*link == static_cast<std::int32_t>(i)) {
+      *link = member_[i].next;
+      mirror(cell);
+      return;
+    }
     while (*link != static_cast<std::int32_t>(i)) link = &member_[static_cast<std::size_t>(*link)].next;
     *link = member_[i].next;
   }
@@ -119,9 +186,41 @@ class CellGrid {
   }
 
  private:
+  // Copies a face cell's head into the halo cells that image it.
+  void mirror(std::uint32_t cell) {
+    const Coordinates c = coordinates(cell);
+    if (!sees_images(c)) return;
+    // Per axis, the padded coordinates at which this cell appears: its own,
+    // and the halo layer beyond the opposite periodic face (both for a
+    // single-cell axis).
+    std::array<std::array<std::int32_t, 3>, D> at{};
+    std::array<int, D> choices{};
+    for (int a = 0; a < D; ++a) {
+      at[a][0] = c[a] + 1;
+      choices[a] = 1;
+      if (periodic_[a] && c[a] == 0) at[a][choices[a]++] = count_[a] + 1;
+      if (periodic_[a] && c[a] == count_[a] - 1) at[a][choices[a]++] = 0;
+    }
+    std::array<int, D> pick{};
+    while (true) {
+      int a = 0;
+      for (; a < D; ++a) {
+        if (++pick[a] < choices[a]) break;
+        pick[a] = 0;
+      }
+      if (a == D) break;
+      std::int32_t image = 0;
+      for (int b = 0; b < D; ++b) image += at[b][pick[b]] * stride_[b];
+      head_[static_cast<std::size_t>(image)] = head_[cell];
+    }
+  }
+
   std::array<std::int32_t, D> count_{};
-  std::array<std::int32_t, D> stride_{};
+  std::array<std::int32_t, D> stride_{};  // of the grid with its halo
+  std::array<bool, D> periodic_{};
+  std::array<double, D> length_{};
   std::array<std::int32_t, neighbour_count> neighbour_offset_{};
+  std::array<Vec<D>, neighbour_count> shift_{};
   std::array<double, D> width_{};
   std::vector<std::int32_t> head_;
   struct Membership {

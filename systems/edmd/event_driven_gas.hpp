@@ -48,7 +48,9 @@
 #include "systems/edmd/cell_grid.hpp"
 #include "systems/edmd/collapse_monitor.hpp"
 #include "systems/edmd/collision_rule.hpp"
+#include "systems/edmd/contact_search.hpp"
 #include "systems/edmd/event_calendar.hpp"
+#include "systems/edmd/motion_record.hpp"
 
 namespace granflow::edmd {
 
@@ -229,7 +231,7 @@ class EventDrivenGas : public Stateful {
       hot.push_back(hot_[i].r);
       plan.insert(plan.end(), {plan_[i].collision_time, static_cast<double>(plan_[i].partner),
                                static_cast<double>(plan_[i].partner_count), static_cast<double>(event_kind_[i])});
-      cell.push_back(grid_.cell_of(static_cast<std::uint32_t>(i)));
+      cell.push_back(static_cast<double>(grid_.serial(grid_.cell_of(static_cast<std::uint32_t>(i)))));
       event.push_back(calendar_.time_of(static_cast<std::uint32_t>(i)));
     }
     const auto& s = statistics_;
@@ -266,7 +268,7 @@ class EventDrivenGas : public Stateful {
       plan_[i] = Plan{plan[4 * i], static_cast<std::uint32_t>(plan[4 * i + 1]),
                       static_cast<std::uint32_t>(plan[4 * i + 2])};
       event_kind_[i] = static_cast<EventKind>(plan[4 * i + 3]);
-      grid_.insert(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(cell[i]));
+      grid_.insert(static_cast<std::uint32_t>(i), grid_.from_serial(static_cast<std::uint64_t>(cell[i])));
     }
     const auto& s = in.at("scalars");
     now_ = s.at(0);
@@ -339,7 +341,7 @@ class EventDrivenGas : public Stateful {
 
   // Memory the engine and the components it uses hold per particle.
   std::size_t bytes_per_particle() const {
-    return world_.component_bytes_per_entity() + sizeof(HotState) + sizeof(Plan) + sizeof(EventKind) +
+    return world_.component_bytes_per_entity() + sizeof(MotionRecord<D>) + sizeof(Plan) + sizeof(EventKind) +
            grid_.bytes_per_particle() + calendar_.bytes_per_particle();
   }
 
@@ -483,23 +485,18 @@ class EventDrivenGas : public Stateful {
     return best;
   }
 
-  static bool interior_cell(const std::array<std::int32_t, D>& cell, const CellGrid<D>& grid) {
-    for (int a = 0; a < D; ++a)
-      if (cell[a] < 1 || cell[a] > grid.count(a) - 2) return false;
-    return true;
-  }
-
   // Re-predicts the two particles of a collision in one pass: they are
   // neighbours, so most of their 3^D neighbour cells are shared, and each
-  // shared candidate is fetched once and tested against both. Same results
-  // as predict() for each (up to the order in which exactly equal times of
-  // different partners are compared). Falls back to two predictions near
-  // the box faces.
+  // shared cell is walked once and its particles listed for both. Same
+  // results as predict() for each (up to the order in which exactly equal
+  // times of different partners are compared). Falls back to two
+  // predictions for a pair on opposite sides of a periodic face.
   void repredict_pair(std::uint32_t i, std::uint32_t j) {
-    const auto ci = grid_.coordinates(grid_.cell_of(i));
-    const auto cj = grid_.coordinates(grid_.cell_of(j));
+    const std::uint32_t here_i = grid_.cell_of(i), here_j = grid_.cell_of(j);
+    const auto ci = grid_.coordinates(here_i);
+    const auto cj = grid_.coordinates(here_j);
     std::array<std::int32_t, D> delta;
-    bool joint = interior_cell(ci, grid_) && interior_cell(cj, grid_);
+    bool joint = true;
     for (int a = 0; a < D && joint; ++a) {
       delta[a] = ci[a] - cj[a];
       joint = delta[a] >= -1 && delta[a] <= 1;
@@ -514,12 +511,18 @@ class EventDrivenGas : public Stateful {
     boundary_event(i, ci, best_i, kind_i);
     boundary_event(j, cj, best_j, kind_j);
 
-    // Cells: i's neighbours in predict()'s order (tested against i, and
-    // against j where j's neighbourhood holds them too), then j's others.
+    // i's neighbour cells in predict()'s order, each also listed for j where
+    // j's neighbourhood holds it, then j's other cells. A cell's shift is
+    // the same seen from either: it depends on the side of the faces only.
+    const bool shifted = grid_.sees_images(ci) || grid_.sees_images(cj);
+    std::array<std::uint8_t, CellGrid<D>::neighbour_count> slots_i{}, slots_j{};
+    if (shifted) {
+      slots_i = grid_.neighbour_shift_slots(ci);
+      slots_j = grid_.neighbour_shift_slots(cj);
+    }
     std::array<std::uint32_t, 2 * CellGrid<D>::neighbour_count> cells;
-    std::array<std::uint8_t, 2 * CellGrid<D>::neighbour_count> masks;
+    std::array<std::uint8_t, 2 * CellGrid<D>::neighbour_count> masks, cell_slots;
     int used = 0;
-    const std::uint32_t here_i = grid_.cell_of(i), here_j = grid_.cell_of(j);
     for (int n = 0; n < CellGrid<D>::neighbour_count; ++n) {
       bool shared = true;
       for (int a = 0, rest = n; a < D; ++a, rest /= 3) {
@@ -527,6 +530,7 @@ class EventDrivenGas : public Stateful {
         shared = shared && reach >= -1 && reach <= 1;
       }
       cells[used] = static_cast<std::uint32_t>(static_cast<std::int32_t>(here_i) + grid_.neighbour_offset(n));
+      cell_slots[used] = slots_i[static_cast<std::size_t>(n)];
       masks[used++] = shared ? 3 : 1;
       grid_.prefetch_cell(cells[used - 1]);
     }
@@ -538,39 +542,40 @@ class EventDrivenGas : public Stateful {
       }
       if (shared) continue;
       cells[used] = static_cast<std::uint32_t>(static_cast<std::int32_t>(here_j) + grid_.neighbour_offset(n));
+      cell_slots[used] = slots_j[static_cast<std::size_t>(n)];
       masks[used++] = 2;
       grid_.prefetch_cell(cells[used - 1]);
     }
     candidates_.clear();
+    partner_candidates_.clear();
+    slots_.clear();
+    partner_slots_.clear();
     for (int u = 0; u < used; ++u)
       for (std::int32_t k = grid_.head(cells[u]); k >= 0; k = grid_.next(static_cast<std::uint32_t>(k))) {
         __builtin_prefetch(&hot_[static_cast<std::size_t>(k)]);
-        candidates_.push_back({static_cast<std::uint32_t>(k), masks[u]});
-      }
-    const Vec<D> xi = hot_[i].x, vi = hot_[i].v, xj = hot_[j].x, vj = hot_[j].v;
-    const double ri = hot_[i].r, rj = hot_[j].r;
-    double collision_i = never, collision_j = never;
-    std::uint32_t partner_i = 0, partner_j = 0;
-    for (const auto [k, mask] : candidates_) {
-      const HotState& other = hot_[k];
-      const Vec<D> x = other.x + other.v * (now_ - other.t);
-      if ((mask & 1) && k != i) {
-        const double dt = contact_time<D>(x - xi, other.v - vi, ri + other.r);
-        if (now_ + dt < collision_i) {
-          collision_i = now_ + dt;
-          partner_i = k;
+        if (masks[u] & 1) {
+          candidates_.push_back(static_cast<std::uint32_t>(k));
+          if (shifted) slots_.push_back(cell_slots[u]);
+        }
+        if (masks[u] & 2) {
+          partner_candidates_.push_back(static_cast<std::uint32_t>(k));
+          if (shifted) partner_slots_.push_back(cell_slots[u]);
         }
       }
-      if ((mask & 2) && k != j) {
-        const double dt = contact_time<D>(x - xj, other.v - vj, rj + other.r);
-        if (now_ + dt < collision_j) {
-          collision_j = now_ + dt;
-          partner_j = k;
-        }
-      }
-    }
-    calendar_.schedule(i, conclude(i, best_i, kind_i, collision_i, partner_i));
-    calendar_.schedule(j, conclude(j, best_j, kind_j, collision_j, partner_j));
+    // i and j need not be left out: a particle never approaches itself, and
+    // the pair has just collided, so it recedes.
+    const auto for_i = earliest_candidate(i, candidates_, slots_, shifted);
+    const auto for_j = earliest_candidate(j, partner_candidates_, partner_slots_, shifted);
+    calendar_.schedule(i, conclude(i, best_i, kind_i, for_i.time, candidates_[for_i.position]));
+    calendar_.schedule(j, conclude(j, best_j, kind_j, for_j.time, partner_candidates_[for_j.position]));
+  }
+
+  EarliestContact earliest_candidate(std::uint32_t i, const std::vector<std::uint32_t>& candidates,
+                                     const std::vector<std::uint8_t>& slots, bool shifted) {
+    if (candidates.empty()) return {never, 0};
+    if (times_.size() < candidates.size()) times_.resize(2 * candidates.size());
+    return earliest_contact<D>(hot_.data(), candidates.data(), shifted ? slots.data() : nullptr,
+                               shifted ? grid_.shifts() : nullptr, candidates.size(), hot_[i], now_, times_.data());
   }
 
   // Finds particle i's earliest event; i must be at time now_.
@@ -580,10 +585,8 @@ class EventDrivenGas : public Stateful {
   // trajectory is unchanged, so its stored earliest collision with the old
   // neighbours still holds, provided that partner has not changed course.
   double predict(std::uint32_t i, int entered_face = -1) {
-    const Vec<D> xi = hot_[i].x;
-    const Vec<D> vi = hot_[i].v;
-    const double ri = hot_[i].r;
-    const auto cell = grid_.coordinates(grid_.cell_of(i));
+    const std::uint32_t here = grid_.cell_of(i);
+    const auto cell = grid_.coordinates(here);
     double best = never;
     EventKind kind = EventKind::none;
     std::uint32_t partner = 0;
@@ -605,69 +608,32 @@ class EventDrivenGas : public Stateful {
     // are walked with cheap index loads, and the particle data of many
     // candidates can then be fetched from memory in parallel instead of one
     // dependent cache miss after another.
-    candidates_.clear();
-    std::array<Vec<D>, CellGrid<D>::neighbour_count> shifts;
+    const bool shifted = grid_.sees_images(cell);
+    std::array<std::uint8_t, CellGrid<D>::neighbour_count> neighbour_slots{};
+    if (shifted) neighbour_slots = grid_.neighbour_shift_slots(cell);
     std::array<std::uint32_t, CellGrid<D>::neighbour_count> cells;
-    std::array<std::uint8_t, CellGrid<D>::neighbour_count> slots;
+    std::array<std::uint8_t, CellGrid<D>::neighbour_count> cell_slots;
     int used = 0;
-    if (interior_cell(cell, grid_)) {
-      // Away from the box faces every neighbour is a fixed offset away and
-      // needs no periodic shift: the common case, without the general path's
-      // per-axis wrapping. Same cells in the same order as the general path.
-      shifts[0].setZero();
-      const std::uint32_t here = grid_.cell_of(i);
-      const int fixed_stride = fixed_axis == 0 ? 1 : fixed_axis == 1 ? 3 : 9;
-      for (int n = 0; n < CellGrid<D>::neighbour_count; ++n) {
-        if (fixed_axis >= 0 && (n / fixed_stride) % 3 - 1 != fixed_offset) continue;
-        cells[used] = static_cast<std::uint32_t>(static_cast<std::int32_t>(here) + grid_.neighbour_offset(n));
-        slots[used++] = 0;
-        grid_.prefetch_cell(cells[used - 1]);
-      }
-    } else {
-      std::array<std::int32_t, D> offset;
-      offset.fill(-1);
-      for (std::uint8_t n = 0; n < CellGrid<D>::neighbour_count; ++n) {
-        std::array<std::int32_t, D> c;
-        Vec<D>& shift = shifts[n];
-        shift.setZero();
-        bool inside = true;
-        for (int a = 0; a < D; ++a) {
-          c[a] = cell[a] + offset[a];
-          if (c[a] < 0 || c[a] >= grid_.count(a)) {
-            if (!box_.periodic[a]) {
-              inside = false;
-              break;
-            }
-            const bool below = c[a] < 0;
-            c[a] += below ? grid_.count(a) : -grid_.count(a);
-            shift[a] = below ? -box_.length[a] : box_.length[a];
-          }
-        }
-        const bool wanted = fixed_axis < 0 || offset[fixed_axis] == fixed_offset;
-        // next offset in odometer order
-        for (int a = 0; a < D; ++a) {
-          if (++offset[a] <= 1) break;
-          offset[a] = -1;
-        }
-        if (!inside || !wanted) continue;
-        cells[used] = grid_.linear(c);
-        slots[used++] = n;
-        grid_.prefetch_cell(cells[used - 1]);
-      }
+    const int fixed_stride = fixed_axis == 0 ? 1 : fixed_axis == 1 ? 3 : 9;
+    for (int n = 0; n < CellGrid<D>::neighbour_count; ++n) {
+      if (fixed_axis >= 0 && (n / fixed_stride) % 3 - 1 != fixed_offset) continue;
+      cells[used] = static_cast<std::uint32_t>(static_cast<std::int32_t>(here) + grid_.neighbour_offset(n));
+      cell_slots[used++] = neighbour_slots[static_cast<std::size_t>(n)];
+      grid_.prefetch_cell(cells[used - 1]);
     }
+    candidates_.clear();
+    slots_.clear();
     for (int u = 0; u < used; ++u)
       for (std::int32_t k = grid_.head(cells[u]); k >= 0; k = grid_.next(static_cast<std::uint32_t>(k))) {
         __builtin_prefetch(&hot_[static_cast<std::size_t>(k)]);
-        if (static_cast<std::uint32_t>(k) != i) candidates_.push_back({static_cast<std::uint32_t>(k), slots[u]});
+        candidates_.push_back(static_cast<std::uint32_t>(k));
+        if (shifted) slots_.push_back(cell_slots[u]);
       }
-    for (const auto [j, n] : candidates_) {
-      const HotState& other = hot_[j];
-      const Vec<D> dx = other.x + other.v * (now_ - other.t) + shifts[n] - xi;
-      const double dt = contact_time<D>(dx, other.v - vi, ri + other.r);
-      if (now_ + dt < best_collision) {
-        best_collision = now_ + dt;
-        partner = j;
-      }
+    // i itself need not be left out: a particle never approaches itself.
+    const auto earliest = earliest_candidate(i, candidates_, slots_, shifted);
+    if (earliest.time < best_collision) {
+      best_collision = earliest.time;
+      partner = candidates_[earliest.position];
     }
     return conclude(i, best, kind, best_collision, partner);
   }
@@ -709,9 +675,15 @@ class EventDrivenGas : public Stateful {
   }
 
   void collide(std::uint32_t i, std::uint32_t j) {
+    // Both are wrapped into the box and in contact, less than half a box
+    // length apart through the nearest image, so one comparison per axis
+    // finds that image.
     Vec<D> dx = hot_[j].x - hot_[i].x;
     for (int a = 0; a < D; ++a)
-      if (box_.periodic[a]) dx[a] -= box_.length[a] * std::round(dx[a] / box_.length[a]);
+      if (box_.periodic[a]) {
+        if (dx[a] > 0.5 * box_.length[a]) dx[a] -= box_.length[a];
+        else if (dx[a] < -0.5 * box_.length[a]) dx[a] += box_.length[a];
+      }
     const bool elastic =
         last_collision_ && (now_ - last_collision_[i] < parameters_.contact_time ||
                             now_ - last_collision_[j] < parameters_.contact_time);
@@ -754,14 +726,7 @@ class EventDrivenGas : public Stateful {
   EventCalendar calendar_;
   CollapseMonitor collapse_;
 
-  // 64 bytes in 3D: one cache line when the vector is 64-byte aligned.
-  struct alignas(D == 3 ? 64 : 16) HotState {
-    Vec<D> x;   // position at local time t, wrapped into the box
-    Vec<D> v;
-    double t;
-    double r;
-  };
-  std::vector<HotState> hot_;
+  std::vector<MotionRecord<D>> hot_;
   double* mass_ = nullptr;
   std::uint32_t* count_ = nullptr;
   double* last_collision_ = nullptr;
@@ -778,11 +743,12 @@ class EventDrivenGas : public Stateful {
   };
   std::vector<Plan> plan_;
   std::vector<EventKind> event_kind_;
-  struct Candidate {
-    std::uint32_t particle;
-    std::uint8_t shift;
-  };
-  std::vector<Candidate> candidates_;
+  // Scratch lists of a prediction, kept to avoid allocating per event.
+  std::vector<std::uint32_t> candidates_;
+  std::vector<std::uint32_t> partner_candidates_;
+  std::vector<std::uint8_t> slots_;  // shift slot of each candidate, near a periodic face
+  std::vector<std::uint8_t> partner_slots_;
+  std::vector<double> times_;
 
   double now_ = 0.0;
   double kinetic_energy_ = 0.0;
