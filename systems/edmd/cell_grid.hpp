@@ -15,6 +15,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -75,6 +76,19 @@ class CellGrid {
     }
     for (int slot = 0; slot < neighbour_count; ++slot)
       for (int a = 0, rest = slot; a < D; ++a, rest /= 3) shift_[static_cast<std::size_t>(slot)][a] = (rest % 3 - 1) * length_[a];
+    // A halo cell beyond a periodic face shows the cell it images one box
+    // length away, whoever looks at it.
+    shift_slot_.assign(padded_total, unshifted);
+    for (std::size_t cell = 0; cell < padded_total; ++cell) {
+      int slot = 0;
+      for (int a = D - 1, weight = neighbour_count / 3; a >= 0; --a, weight /= 3) {
+        const auto padded = static_cast<std::int32_t>(cell / static_cast<std::size_t>(stride_[a])) % (count_[a] + 2);
+        const int side = !periodic_[a] ? 0 : padded == 0 ? -1 : padded == count_[a] + 1 ? 1 : 0;
+        slot += (side + 1) * weight;
+      }
+      shift_slot_[cell] = static_cast<std::uint8_t>(slot);
+    }
+    build_walks();
     head_.assign(padded_total, -1);
     member_.assign(particle_count, Membership{-1, 0});
   }
@@ -95,7 +109,34 @@ class CellGrid {
   void prefetch_cell(std::uint32_t cell) const { __builtin_prefetch(&head_[cell]); }
   std::int32_t next(std::uint32_t i) const { return member_[i].next; }
   std::int32_t neighbour_offset(int n) const { return neighbour_offset_[static_cast<std::size_t>(n)]; }
-  const Vec<D>* shifts() const { return shift_.data(); }
+  // Where a particle listed in `cell` is seen from the box's neighbouring cells.
+  const Vec<D>& shift(std::uint32_t cell) const { return shift_[shift_slot_[cell]]; }
+
+  // The cells to scan after a crossing through `face` (2 axis + upward):
+  // those that have just become adjacent, as offsets from the new cell.
+  std::span<const std::int32_t> entered_cells(int face) const {
+    return {entered_[static_cast<std::size_t>(face)].data(), neighbour_count / 3};
+  }
+
+  // The neighbourhoods of two adjacent cells, the first at offset `delta`
+  // (each component -1, 0 or 1) from the second, as offsets from the first:
+  // the cells only the first sees, then those both see, then those only the
+  // second sees. Empty (no cells) when the two are not adjacent.
+  struct PairWalk {
+    std::array<std::int32_t, 2 * neighbour_count> offsets;
+    int first_only;  // cells [0, first_only) belong to the first only
+    int shared_end;  // cells [first_only, shared_end) to both, [shared_end, total) to the second
+    int total;
+  };
+  const PairWalk& pair_walk(const Coordinates& first, const Coordinates& second) const {
+    int code = 0;
+    for (int a = D - 1; a >= 0; --a) {
+      const std::int32_t delta = first[a] - second[a];
+      if (delta < -1 || delta > 1) return no_walk_;
+      code = 3 * code + delta + 1;
+    }
+    return walks_[static_cast<std::size_t>(code)];
+  }
 
   // Coordinates inside the box (0 .. count - 1) of a cell inside the box.
   Coordinates coordinates(std::uint32_t cell) const {
@@ -118,21 +159,6 @@ class CellGrid {
     bool images = false;
     for (int a = 0; a < D; ++a) images = images || (periodic_[a] && (c[a] == 0 || c[a] == count_[a] - 1));
     return images;
-  }
-
-  // Shift slot of each neighbour of the cell at c, in neighbour order.
-  std::array<std::uint8_t, neighbour_count> neighbour_shift_slots(const Coordinates& c) const {
-    std::array<std::array<std::int32_t, 3>, D> side{};
-    for (int a = 0; a < D; ++a)
-      for (int o = -1; o <= 1; ++o)
-        side[a][o + 1] = c[a] + o < 0 ? -1 : c[a] + o >= count_[a] ? 1 : 0;
-    std::array<std::uint8_t, neighbour_count> slots{};
-    for (int n = 0; n < neighbour_count; ++n) {
-      int slot = 0, weight = 1;
-      for (int a = 0, rest = n; a < D; ++a, rest /= 3, weight *= 3) slot += (side[a][rest % 3] + 1) * weight;
-      slots[static_cast<std::size_t>(n)] = static_cast<std::uint8_t>(slot);
-    }
-    return slots;
   }
 
   // Cell containing a position inside the box.
@@ -182,10 +208,45 @@ class CellGrid {
 
   std::size_t bytes_per_particle() const {
     const std::size_t count = std::max<std::size_t>(member_.size(), 1);
-    return sizeof(Membership) + head_.size() * sizeof(std::int32_t) / count;
+    return sizeof(Membership) + head_.size() * (sizeof(std::int32_t) + sizeof(std::uint8_t)) / count;
   }
 
  private:
+  void build_walks() {
+    const auto digit = [](int n, int a) {
+      for (int k = 0; k < a; ++k) n /= 3;
+      return n % 3 - 1;
+    };
+    for (int face = 0; face < 2 * D; ++face) {
+      int used = 0;
+      for (int n = 0; n < neighbour_count; ++n)
+        if (digit(n, face / 2) == (face % 2 == 1 ? 1 : -1))
+          entered_[static_cast<std::size_t>(face)][static_cast<std::size_t>(used++)] = neighbour_offset_[static_cast<std::size_t>(n)];
+    }
+    no_walk_ = PairWalk{{}, 0, 0, 0};
+    for (int d = 0; d < neighbour_count; ++d) {
+      PairWalk& walk = walks_[static_cast<std::size_t>(d)];
+      const auto within = [&](int n, int sign) {
+        bool inside = true;
+        for (int a = 0; a < D; ++a) inside = inside && std::abs(digit(d, a) + sign * digit(n, a)) <= 1;
+        return inside;
+      };
+      const std::int32_t delta = neighbour_offset_[static_cast<std::size_t>(d)];
+      int used = 0;
+      for (int n = 0; n < neighbour_count; ++n)
+        if (!within(n, 1)) walk.offsets[static_cast<std::size_t>(used++)] = neighbour_offset_[static_cast<std::size_t>(n)];
+      walk.first_only = used;
+      for (int n = 0; n < neighbour_count; ++n)
+        if (within(n, 1)) walk.offsets[static_cast<std::size_t>(used++)] = neighbour_offset_[static_cast<std::size_t>(n)];
+      walk.shared_end = used;
+      // The second cell's neighbour m lies at m - delta from the first; the
+      // shared ones are listed already.
+      for (int m = 0; m < neighbour_count; ++m)
+        if (!within(m, -1)) walk.offsets[static_cast<std::size_t>(used++)] = neighbour_offset_[static_cast<std::size_t>(m)] - delta;
+      walk.total = used;
+    }
+  }
+
   // Copies a face cell's head into the halo cells that image it.
   void mirror(std::uint32_t cell) {
     const Coordinates c = coordinates(cell);
@@ -221,6 +282,10 @@ class CellGrid {
   std::array<double, D> length_{};
   std::array<std::int32_t, neighbour_count> neighbour_offset_{};
   std::array<Vec<D>, neighbour_count> shift_{};
+  std::vector<std::uint8_t> shift_slot_;  // per cell of the grid with its halo
+  std::array<std::array<std::int32_t, neighbour_count / 3>, 2 * D> entered_{};
+  std::array<PairWalk, neighbour_count> walks_{};
+  PairWalk no_walk_{};
   std::array<double, D> width_{};
   std::vector<std::int32_t> head_;
   struct Membership {

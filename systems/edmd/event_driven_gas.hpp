@@ -45,6 +45,7 @@
 #include "engine/config.hpp"
 #include "engine/state_map.hpp"
 #include "engine/world.hpp"
+#include "systems/edmd/candidate_buffer.hpp"
 #include "systems/edmd/cell_grid.hpp"
 #include "systems/edmd/collapse_monitor.hpp"
 #include "systems/edmd/collision_rule.hpp"
@@ -485,23 +486,24 @@ class EventDrivenGas : public Stateful {
     return best;
   }
 
+  // Copies the particles listed in `cell` into the candidate buffer.
+  [[gnu::always_inline]] void gather(typename CandidateBuffer<D>::Writer& writer, std::uint32_t cell) {
+    writer.append_list(grid_.head(cell), [this](std::uint32_t k) { return grid_.next(k); }, hot_.data(),
+                       grid_.shift(cell), now_);
+  }
+
   // Re-predicts the two particles of a collision in one pass: they are
   // neighbours, so most of their 3^D neighbour cells are shared, and each
-  // shared cell is walked once and its particles listed for both. Same
-  // results as predict() for each (up to the order in which exactly equal
-  // times of different partners are compared). Falls back to two
-  // predictions for a pair on opposite sides of a periodic face.
+  // shared cell is copied once for both. Same results as predict() for each
+  // (up to the order in which exactly equal times of different partners are
+  // compared). Falls back to two predictions for a pair on opposite sides of
+  // a periodic face.
   void repredict_pair(std::uint32_t i, std::uint32_t j) {
-    const std::uint32_t here_i = grid_.cell_of(i), here_j = grid_.cell_of(j);
+    const std::uint32_t here_i = grid_.cell_of(i);
     const auto ci = grid_.coordinates(here_i);
-    const auto cj = grid_.coordinates(here_j);
-    std::array<std::int32_t, D> delta;
-    bool joint = true;
-    for (int a = 0; a < D && joint; ++a) {
-      delta[a] = ci[a] - cj[a];
-      joint = delta[a] >= -1 && delta[a] <= 1;
-    }
-    if (!joint) {
+    const auto cj = grid_.coordinates(grid_.cell_of(j));
+    const auto& walk = grid_.pair_walk(ci, cj);
+    if (walk.total == 0) {
       repredict(i);
       repredict(j);
       return;
@@ -510,72 +512,23 @@ class EventDrivenGas : public Stateful {
     EventKind kind_i = EventKind::none, kind_j = EventKind::none;
     boundary_event(i, ci, best_i, kind_i);
     boundary_event(j, cj, best_j, kind_j);
-
-    // i's neighbour cells in predict()'s order, each also listed for j where
-    // j's neighbourhood holds it, then j's other cells. A cell's shift is
-    // the same seen from either: it depends on the side of the faces only.
-    const bool shifted = grid_.sees_images(ci) || grid_.sees_images(cj);
-    std::array<std::uint8_t, CellGrid<D>::neighbour_count> slots_i{}, slots_j{};
-    if (shifted) {
-      slots_i = grid_.neighbour_shift_slots(ci);
-      slots_j = grid_.neighbour_shift_slots(cj);
-    }
-    std::array<std::uint32_t, 2 * CellGrid<D>::neighbour_count> cells;
-    std::array<std::uint8_t, 2 * CellGrid<D>::neighbour_count> masks, cell_slots;
-    int used = 0;
-    for (int n = 0; n < CellGrid<D>::neighbour_count; ++n) {
-      bool shared = true;
-      for (int a = 0, rest = n; a < D; ++a, rest /= 3) {
-        const int reach = delta[a] + rest % 3 - 1;
-        shared = shared && reach >= -1 && reach <= 1;
-      }
-      cells[used] = static_cast<std::uint32_t>(static_cast<std::int32_t>(here_i) + grid_.neighbour_offset(n));
-      cell_slots[used] = slots_i[static_cast<std::size_t>(n)];
-      masks[used++] = shared ? 3 : 1;
-      grid_.prefetch_cell(cells[used - 1]);
-    }
-    for (int n = 0; n < CellGrid<D>::neighbour_count; ++n) {
-      bool shared = true;
-      for (int a = 0, rest = n; a < D; ++a, rest /= 3) {
-        const int reach = rest % 3 - 1 - delta[a];
-        shared = shared && reach >= -1 && reach <= 1;
-      }
-      if (shared) continue;
-      cells[used] = static_cast<std::uint32_t>(static_cast<std::int32_t>(here_j) + grid_.neighbour_offset(n));
-      cell_slots[used] = slots_j[static_cast<std::size_t>(n)];
-      masks[used++] = 2;
-      grid_.prefetch_cell(cells[used - 1]);
-    }
-    candidates_.clear();
-    partner_candidates_.clear();
-    slots_.clear();
-    partner_slots_.clear();
-    for (int u = 0; u < used; ++u)
-      for (std::int32_t k = grid_.head(cells[u]); k >= 0; k = grid_.next(static_cast<std::uint32_t>(k))) {
-        __builtin_prefetch(&hot_[static_cast<std::size_t>(k)]);
-        if (masks[u] & 1) {
-          candidates_.push_back(static_cast<std::uint32_t>(k));
-          if (shifted) slots_.push_back(cell_slots[u]);
-        }
-        if (masks[u] & 2) {
-          partner_candidates_.push_back(static_cast<std::uint32_t>(k));
-          if (shifted) partner_slots_.push_back(cell_slots[u]);
-        }
-      }
-    // i and j need not be left out: a particle never approaches itself, and
-    // the pair has just collided, so it recedes.
-    const auto for_i = earliest_candidate(i, candidates_, slots_, shifted);
-    const auto for_j = earliest_candidate(j, partner_candidates_, partner_slots_, shifted);
-    calendar_.schedule(i, conclude(i, best_i, kind_i, for_i.time, candidates_[for_i.position]));
-    calendar_.schedule(j, conclude(j, best_j, kind_j, for_j.time, partner_candidates_[for_j.position]));
-  }
-
-  EarliestContact earliest_candidate(std::uint32_t i, const std::vector<std::uint32_t>& candidates,
-                                     const std::vector<std::uint8_t>& slots, bool shifted) {
-    if (candidates.empty()) return {never, 0};
-    if (times_.size() < candidates.size()) times_.resize(2 * candidates.size());
-    return earliest_contact<D>(hot_.data(), candidates.data(), shifted ? slots.data() : nullptr,
-                               shifted ? grid_.shifts() : nullptr, candidates.size(), hot_[i], now_, times_.data());
+    // i tests the cells only it sees and the shared ones, j the shared ones
+    // and its own. Neither need be left out: the pair has just collided, so
+    // it recedes, and a particle never approaches itself.
+    auto writer = candidates_.refill();
+    const auto cell_at = [&](int u) {
+      return static_cast<std::uint32_t>(static_cast<std::int32_t>(here_i) + walk.offsets[static_cast<std::size_t>(u)]);
+    };
+    for (int u = 0; u < walk.first_only; ++u) gather(writer, cell_at(u));
+    const std::size_t shared_begin = writer.size();
+    for (int u = walk.first_only; u < walk.shared_end; ++u) gather(writer, cell_at(u));
+    const std::size_t shared_end = writer.size();
+    for (int u = walk.shared_end; u < walk.total; ++u) gather(writer, cell_at(u));
+    writer.close();
+    const auto for_i = earliest_contact<D>(candidates_, 0, shared_end, hot_[i], now_);
+    const auto for_j = earliest_contact<D>(candidates_, shared_begin, candidates_.size(), hot_[j], now_);
+    calendar_.schedule(i, conclude(i, best_i, kind_i, for_i.time, candidates_.index(for_i.position)));
+    calendar_.schedule(j, conclude(j, best_j, kind_j, for_j.time, candidates_.index(for_j.position)));
   }
 
   // Finds particle i's earliest event; i must be at time now_.
@@ -599,41 +552,21 @@ class EventDrivenGas : public Stateful {
         entered_face = -1;  // the stored collision is stale: scan everything
       }
     }
-    const int fixed_axis = entered_face >= 0 ? entered_face / 2 : -1;
-    const std::int32_t fixed_offset = entered_face >= 0 && entered_face % 2 == 1 ? 1 : -1;
-
     boundary_event(i, cell, best, kind);
-
-    // Gather the neighbours first and test them afterwards: the cell lists
-    // are walked with cheap index loads, and the particle data of many
-    // candidates can then be fetched from memory in parallel instead of one
-    // dependent cache miss after another.
-    const bool shifted = grid_.sees_images(cell);
-    std::array<std::uint8_t, CellGrid<D>::neighbour_count> neighbour_slots{};
-    if (shifted) neighbour_slots = grid_.neighbour_shift_slots(cell);
-    std::array<std::uint32_t, CellGrid<D>::neighbour_count> cells;
-    std::array<std::uint8_t, CellGrid<D>::neighbour_count> cell_slots;
-    int used = 0;
-    const int fixed_stride = fixed_axis == 0 ? 1 : fixed_axis == 1 ? 3 : 9;
-    for (int n = 0; n < CellGrid<D>::neighbour_count; ++n) {
-      if (fixed_axis >= 0 && (n / fixed_stride) % 3 - 1 != fixed_offset) continue;
-      cells[used] = static_cast<std::uint32_t>(static_cast<std::int32_t>(here) + grid_.neighbour_offset(n));
-      cell_slots[used++] = neighbour_slots[static_cast<std::size_t>(n)];
-      grid_.prefetch_cell(cells[used - 1]);
+    auto writer = candidates_.refill();
+    if (entered_face >= 0) {
+      for (const std::int32_t offset : grid_.entered_cells(entered_face))
+        gather(writer, static_cast<std::uint32_t>(static_cast<std::int32_t>(here) + offset));
+    } else {
+      for (int n = 0; n < CellGrid<D>::neighbour_count; ++n)
+        gather(writer, static_cast<std::uint32_t>(static_cast<std::int32_t>(here) + grid_.neighbour_offset(n)));
     }
-    candidates_.clear();
-    slots_.clear();
-    for (int u = 0; u < used; ++u)
-      for (std::int32_t k = grid_.head(cells[u]); k >= 0; k = grid_.next(static_cast<std::uint32_t>(k))) {
-        __builtin_prefetch(&hot_[static_cast<std::size_t>(k)]);
-        candidates_.push_back(static_cast<std::uint32_t>(k));
-        if (shifted) slots_.push_back(cell_slots[u]);
-      }
+    writer.close();
     // i itself need not be left out: a particle never approaches itself.
-    const auto earliest = earliest_candidate(i, candidates_, slots_, shifted);
+    const auto earliest = earliest_contact<D>(candidates_, 0, candidates_.size(), hot_[i], now_);
     if (earliest.time < best_collision) {
       best_collision = earliest.time;
-      partner = candidates_[earliest.position];
+      partner = candidates_.index(earliest.position);
     }
     return conclude(i, best, kind, best_collision, partner);
   }
@@ -743,12 +676,8 @@ class EventDrivenGas : public Stateful {
   };
   std::vector<Plan> plan_;
   std::vector<EventKind> event_kind_;
-  // Scratch lists of a prediction, kept to avoid allocating per event.
-  std::vector<std::uint32_t> candidates_;
-  std::vector<std::uint32_t> partner_candidates_;
-  std::vector<std::uint8_t> slots_;  // shift slot of each candidate, near a periodic face
-  std::vector<std::uint8_t> partner_slots_;
-  std::vector<double> times_;
+  // Scratch of a prediction, kept to avoid allocating per event.
+  CandidateBuffer<D> candidates_;
 
   double now_ = 0.0;
   double kinetic_energy_ = 0.0;
