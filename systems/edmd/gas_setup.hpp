@@ -1,7 +1,8 @@
 #pragma once
 // Builds a hard-sphere (hard-disk) gas from a configuration: the box, the
-// components, random non-overlapping positions and the initial velocities,
-// including an elastically equilibrated state. Scenarios share the keys
+// components, non-overlapping positions (random, or a melted lattice for
+// dense fluids) and the initial velocities, including an elastically
+// equilibrated state. Scenarios share the keys
 // declared here so every EDMD scenario is configured the same way.
 
 #include <algorithm>
@@ -27,6 +28,7 @@
 #include "systems/edmd/event_driven_gas.hpp"
 #include "systems/edmd/kinetic_theory.hpp"
 #include "systems/initial/initial_velocities.hpp"
+#include "systems/initial/lattice_placement.hpp"
 #include "systems/initial/random_placement.hpp"
 
 namespace granflow::edmd {
@@ -66,10 +68,16 @@ inline void declare_gas_keys(ConfigSchema& schema, const GasDefaults& d) {
               "fixed_speed: |v| = initial.speed in random directions; maxwell_boltzmann: at "
               "initial.temperature; equilibrated: fixed_speed run elastically for "
               "initial.equilibration_collisions collisions per particle")
+      .choice("initial.placement", "random", {"random", "lattice"},
+              "random: random sequential addition (packing fractions below its jamming point, 0.384 in 3D and "
+              "0.547 in 2D); lattice: a face-centred cubic (3D) or centred square (2D) lattice with random "
+              "vacancies, run elastically until it has melted (its Bragg peak gone; a state that stays solid is "
+              "refused), then for initial.equilibration_collisions collisions per particle: dense fluids, up "
+              "to the freezing point (0.494 in 3D)")
       .real("initial.speed", std::numbers::sqrt2, 0.0, inf, "initial speed v0 (fixed_speed, equilibrated)", true)
       .real("initial.temperature", 2.0 / 3.0, 0.0, inf, "initial temperature (maxwell_boltzmann)", true)
       .real("initial.equilibration_collisions", 20.0, 0.0, 1e6,
-            "collisions per particle of the elastic run that prepares an equilibrated state")
+            "collisions per particle of the elastic run that prepares an equilibrated state or melts the lattice")
       .boolean("initial.remove_mean_velocity", d.remove_mean_velocity,
                "remove the centre-of-mass velocity at start, keeping the kinetic energy");
   CollisionParameters collision;
@@ -134,6 +142,35 @@ void check_equilibration_length(const Box<D>& box, std::size_t count, double rad
                  events / events_per_hour);
 }
 
+// Runs the gas elastically until no trace of the lattice it started on is
+// left: the lattice's Bragg peak, of height N at the start, down to what a
+// fluid shows (of order 1; above 20 by chance about once in 10^3). A state
+// that stays ordered is a solid, not a fluid to start a run from.
+template <int D>
+void melt_lattice(World& world, EventDrivenGas<D>& gas, const Vec<D>& bragg_vector, const Preparation& preparation) {
+  constexpr double fluid_peak = 20.0;
+  constexpr int max_collisions_per_particle = 1000;
+  constexpr int slice = 10;
+  const auto count = static_cast<double>(world.size());
+  for (int done = 0; done < max_collisions_per_particle; done += slice) {
+    const auto total = static_cast<std::uint64_t>(std::ceil(slice * count / 2));
+    if (run_elastic_preparation(gas, total, preparation.named("melting the lattice")) == StopReason::no_events) return;
+    gas.synchronize(gas.time());
+    if (structure_factor<D>(world.template component<Position<D>>().values, bragg_vector) < fluid_peak) {
+      spdlog::info("lattice melted after {} collisions per particle", done + slice);
+      return;
+    }
+  }
+  const auto& radius = world.template component<Radius>().values;
+  double occupied = 0.0;
+  for (double r : radius) occupied += ball_volume<D>(r);
+  throw PlacementError(fmt::format("the lattice has not melted after {} collisions per particle at packing fraction "
+                                   "{:.4f}: hard {} freeze above {} and stay solid; lower system.count or "
+                                   "system.radius",
+                                   max_collisions_per_particle, occupied / world.template resource<Box<D>>().volume(),
+                                   D == 3 ? "spheres" : "disks", D == 3 ? "0.494" : "0.70"));
+}
+
 // Fills an empty world (of system.count entities) with the configured gas at
 // t = 0. `customize` may change masses, radii or add components (a mixture's
 // species) before particles are placed and given velocities.
@@ -143,14 +180,16 @@ template <int D>
 void build_gas(World& world, const Config& config, std::uint64_t seed,
                const std::function<void(World&)>& customize = {}, const Preparation& preparation = {}) {
   const auto count = static_cast<std::size_t>(config.integer("system.count"));
+  const bool on_lattice = config.text("initial.placement") == "lattice";
   // Impossible sizes fail here, before anything is allocated.
-  if (!customize) {
+  if (!customize && !on_lattice) {
     const Box<D> box = box_from<D>(config);
     const double fraction =
         static_cast<double>(count) * ball_volume<D>(config.real("system.radius")) / box.volume();
     if (fraction >= random_sequential_jamming_fraction<D>())
       throw PlacementError(fmt::format("cannot place {} particles at packing fraction {:.4f}: random sequential "
-                                       "placement jams at {:.3f} in {}D; lower system.count or system.radius",
+                                       "placement jams at {:.3f} in {}D; lower system.count or system.radius, or "
+                                       "set initial.placement = \"lattice\"",
                                        count, fraction, random_sequential_jamming_fraction<D>(), D));
   }
   require_memory(fmt::format("system.count = {}", count), bytes_per_particle_estimate * static_cast<double>(count));
@@ -167,9 +206,17 @@ void build_gas(World& world, const Config& config, std::uint64_t seed,
     world.add_component<ImageCount<D>>();
   if (customize) customize(world);
 
-  PlacementRegion<D> everywhere;
-  everywhere.upper = box.length;
-  position.values = place_randomly<D>(box, everywhere, radius.values, seed, preparation.named("random placement"));
+  Vec<D> bragg_vector = Vec<D>::Zero();
+  if (on_lattice) {
+    const double largest = count ? *std::max_element(radius.values.begin(), radius.values.end()) : 0.0;
+    auto lattice = place_on_lattice<D>(box, count, largest, seed);
+    position.values = std::move(lattice.positions);
+    bragg_vector = lattice.bragg_vector;
+  } else {
+    PlacementRegion<D> everywhere;
+    everywhere.upper = box.length;
+    position.values = place_randomly<D>(box, everywhere, radius.values, seed, preparation.named("random placement"));
+  }
 
   const std::string kind = config.text("initial.velocity");
   if (kind == "maxwell_boltzmann")
@@ -179,14 +226,18 @@ void build_gas(World& world, const Config& config, std::uint64_t seed,
   if (config.boolean("initial.remove_mean_velocity") && count > 1)
     remove_mean_velocity<D>(velocity.values, mass.values);
 
-  if (kind == "equilibrated") {
+  if (kind == "equilibrated" || on_lattice) {
     const double collisions = config.real("initial.equilibration_collisions");
-    check_equilibration_length<D>(box, count, config.real("system.radius"), config.real("system.mass"),
-                                  config.real("initial.speed"), collisions);
+    const double speed = kind == "maxwell_boltzmann"
+                             ? std::sqrt(D * config.real("initial.temperature") / config.real("system.mass"))
+                             : config.real("initial.speed");
+    check_equilibration_length<D>(box, count, config.real("system.radius"), config.real("system.mass"), speed,
+                                  collisions);
     CollisionParameters elastic;
     elastic.wall_restitution = 1.0;
     EventDrivenGas<D> gas(world, elastic);
     gas.start(0.0);
+    if (on_lattice) melt_lattice<D>(world, gas, bragg_vector, preparation);
     const auto total = static_cast<std::uint64_t>(std::ceil(collisions * static_cast<double>(count) / 2));
     const StopReason reason = run_elastic_preparation(gas, total, preparation.named("elastic equilibration"));
     gas.synchronize(gas.time());
@@ -200,7 +251,8 @@ void build_gas(World& world, const Config& config, std::uint64_t seed,
       auto& last = world.component<LastCollisionTime>();
       std::fill(last.values.begin(), last.values.end(), -std::numeric_limits<double>::infinity());
     }
-    spdlog::info("equilibrated elastically: {:.1f} collisions per particle in t = {:.4g}{}",
+    spdlog::info("{}: {:.1f} collisions per particle in t = {:.4g}{}",
+                 on_lattice ? "lattice melted and equilibrated elastically" : "equilibrated elastically",
                  2.0 * static_cast<double>(gas.statistics().pair_collisions) / static_cast<double>(count),
                  gas.time(), reason == StopReason::no_events ? " (no more events: the gas is at rest)" : "");
   }
