@@ -38,67 +38,104 @@ class CandidateBuffer {
 
   std::size_t size() const { return size_; }
 
-  // Appends candidates cell list by cell list with the buffer's pointer and
-  // size in locals: stores of candidate data could otherwise be taken to
-  // change them (or the cell lists), forcing reloads for every candidate.
-  // close() sets the buffer's size and fills the last block with entries no
-  // contact test accepts (a NaN position fails the test b < 0).
+  // Appends candidates cell list by cell list, in two passes: the lists are
+  // walked first, noting each candidate's index and prefetching its record,
+  // so that the records of all candidates are fetched from memory in
+  // parallel rather than one dependent miss after another; close() then
+  // copies them and fills the rest of the last block with entries no contact
+  // test accepts (a NaN position fails the test b < 0). The buffer's pointers
+  // and size are held in locals meanwhile: stores of candidate data could
+  // otherwise be taken to change them (or the cell lists).
   class Writer {
    public:
-    explicit Writer(CandidateBuffer& buffer) : buffer_(buffer), size_(buffer.size_) { point(); }
+    // Particle k was last advanced at records[k].t; all are seen at time `now`.
+    Writer(CandidateBuffer& buffer, const MotionRecord<D>* records, double now)
+        : buffer_(buffer), records_(records), now_(now), size_(buffer.size_), copied_(buffer.size_) {
+      point();
+    }
 
     // The list starts at `head` and continues at next(k) (negative at the
-    // end); particle k was last advanced at records[k].t and is seen at
-    // time `now` through `shift`.
+    // end); its particles are seen through `shift`.
     template <class Next>
-    [[gnu::always_inline]] void append_list(std::int32_t head, Next next, const MotionRecord<D>* records,
-                                            const Vec<D>& shift, double now) {
+    [[gnu::always_inline]] void append_list(std::int32_t head, Next next, const Vec<D>& shift) {
+      if (head < 0) return;
+      if (segments_ == max_segments) [[unlikely]] copy();
       for (std::int32_t k = head; k >= 0; k = next(static_cast<std::uint32_t>(k))) {
         if (size_ == capacity_) [[unlikely]] {
           buffer_.size_ = size_;
           buffer_.grow();
           point();
         }
-        const MotionRecord<D>& record = records[k];
-        double* entry = data_ + entry_offset(size_++);
-        // The same operations in the same order as the reference contact test
-        // (x + v (now - t), then the shift), so predicted times stay bit-identical.
-        const double age = now - record.t;
-        for (int a = 0; a < D; ++a) {
-          const double v = record.v[a];
-          double x = record.x[a] + v * age;
-          x += shift[a];
-          entry[static_cast<std::size_t>(a) * block] = x;
-          entry[static_cast<std::size_t>(D + a) * block] = v;
-        }
-        entry[radius_row * block] = record.r;
-        entry[index_row * block] = static_cast<double>(k);
+        __builtin_prefetch(&records_[k]);
+        pending_[size_++] = static_cast<std::uint32_t>(k);
       }
+      segment_[segments_++] = {size_, &shift};
     }
 
     std::size_t size() const { return size_; }
 
     void close() {
+      copy();
       for (std::size_t c = size_; c % block != 0; ++c) data_[entry_offset(c)] = std::numeric_limits<double>::quiet_NaN();
       buffer_.size_ = size_;
     }
 
    private:
+    static constexpr int max_segments = 64;
+
+    void copy() {
+      std::size_t c = copied_;
+      for (int s = 0; s < segments_; ++s) {
+        const Vec<D>& shift = *segment_[s].shift;
+        for (; c < segment_[s].end; ++c) {
+          const std::uint32_t k = pending_[c];
+          const MotionRecord<D>& record = records_[k];
+          double* entry = data_ + entry_offset(c);
+          // The same operations in the same order as the reference contact
+          // test (x + v (now - t), then the shift), so predicted times stay
+          // bit-identical.
+          const double age = now_ - record.t;
+          for (int a = 0; a < D; ++a) {
+            const double v = record.v[a];
+            double x = record.x[a] + v * age;
+            x += shift[a];
+            entry[static_cast<std::size_t>(a) * block] = x;
+            entry[static_cast<std::size_t>(D + a) * block] = v;
+          }
+          entry[radius_row * block] = record.r;
+          entry[index_row * block] = static_cast<double>(k);
+        }
+      }
+      copied_ = c;
+      segments_ = 0;
+    }
+
     void point() {
       data_ = buffer_.storage_.data();
+      pending_ = buffer_.pending_.data();
       capacity_ = buffer_.capacity_;
     }
 
+    struct Segment {
+      std::size_t end;
+      const Vec<D>* shift;
+    };
     CandidateBuffer& buffer_;
+    const MotionRecord<D>* records_;
+    double now_;
     std::size_t size_;
+    std::size_t copied_;
     std::size_t capacity_ = 0;
     double* data_ = nullptr;
+    std::uint32_t* pending_ = nullptr;
+    Segment segment_[max_segments];
+    int segments_ = 0;
   };
 
   // Starts filling the buffer afresh.
-  Writer refill() {
+  Writer refill(const MotionRecord<D>* records, double now) {
     size_ = 0;
-    return Writer(*this);
+    return Writer(*this, records, now);
   }
 
   // Where entry c's first row lies; row f is f * block further.
@@ -114,10 +151,12 @@ class CandidateBuffer {
     capacity_ = std::max<std::size_t>(8 * block, 2 * capacity_);
     storage_.resize(rows * capacity_, 0.0);
     times_.resize(capacity_);
+    pending_.resize(capacity_);
   }
 
   std::vector<double> storage_;
   std::vector<double> times_;
+  std::vector<std::uint32_t> pending_;  // candidates noted but not copied yet
   std::size_t size_ = 0;
   std::size_t capacity_ = 0;
 };

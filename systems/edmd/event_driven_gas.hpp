@@ -488,8 +488,7 @@ class EventDrivenGas : public Stateful {
 
   // Copies the particles listed in `cell` into the candidate buffer.
   [[gnu::always_inline]] void gather(typename CandidateBuffer<D>::Writer& writer, std::uint32_t cell) {
-    writer.append_list(grid_.head(cell), [this](std::uint32_t k) { return grid_.next(k); }, hot_.data(),
-                       grid_.shift(cell), now_);
+    writer.append_list(grid_.head(cell), [this](std::uint32_t k) { return grid_.next(k); }, grid_.shift(cell));
   }
 
   // Re-predicts the two particles of a collision in one pass: they are
@@ -515,7 +514,7 @@ class EventDrivenGas : public Stateful {
     // i tests the cells only it sees and the shared ones, j the shared ones
     // and its own. Neither need be left out: the pair has just collided, so
     // it recedes, and a particle never approaches itself.
-    auto writer = candidates_.refill();
+    auto writer = candidates_.refill(hot_.data(), now_);
     const auto cell_at = [&](int u) {
       return static_cast<std::uint32_t>(static_cast<std::int32_t>(here_i) + walk.offsets[static_cast<std::size_t>(u)]);
     };
@@ -553,7 +552,7 @@ class EventDrivenGas : public Stateful {
       }
     }
     boundary_event(i, cell, best, kind);
-    auto writer = candidates_.refill();
+    auto writer = candidates_.refill(hot_.data(), now_);
     if (entered_face >= 0) {
       for (const std::int32_t offset : grid_.entered_cells(entered_face))
         gather(writer, static_cast<std::uint32_t>(static_cast<std::int32_t>(here) + offset));
