@@ -87,6 +87,18 @@ LatticeGrid<D> lattice_grid(const Box<D>& box, double radius, double scale) {
 
 }  // namespace detail
 
+// Random vacancies: keeps `count` of the sites, chosen by a partial
+// Fisher-Yates shuffle (stream lattice_vacancy of `seed`).
+template <int D>
+void keep_random_sites(std::vector<Vec<D>>& sites, std::size_t count, std::uint64_t seed) {
+  for (std::size_t k = 0; k < count; ++k) {
+    Philox random(stream::lattice_vacancy, seed, 0, k);
+    const auto pick = k + static_cast<std::size_t>(random.uniform() * static_cast<double>(sites.size() - k));
+    std::swap(sites[k], sites[std::min(pick, sites.size() - 1)]);
+  }
+  sites.resize(count);
+}
+
 // Centres of `count` spheres (disks) of at most `radius` on a lattice filling
 // `box`, `count` of its sites chosen at random (stream lattice_vacancy of
 // `seed`). The lattice is the coarsest that offers `count` sites, so its
@@ -185,13 +197,7 @@ LatticePlacement<D> place_on_lattice(const Box<D>& box, std::size_t count, doubl
     }
     if (a == D) break;
   }
-  // Random vacancies: a partial Fisher-Yates shuffle keeps `count` sites.
-  for (std::size_t k = 0; k < count; ++k) {
-    Philox random(stream::lattice_vacancy, seed, 0, k);
-    const auto pick = k + static_cast<std::size_t>(random.uniform() * static_cast<double>(sites.size() - k));
-    std::swap(sites[k], sites[std::min(pick, sites.size() - 1)]);
-  }
-  sites.resize(count);
+  keep_random_sites<D>(sites, count, seed);
   LatticePlacement<D> placement{std::move(sites), Vec<D>::Zero()};
   for (int a = 0; a < D; ++a) placement.bragg_vector[a] = std::numbers::pi / grid.spacing[a];
   return placement;

@@ -27,6 +27,7 @@
 #include "systems/edmd/elastic_preparation.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 #include "systems/initial/initial_velocities.hpp"
+#include "systems/initial/lattice_placement.hpp"
 #include "systems/initial/random_placement.hpp"
 
 namespace granflow {
@@ -71,13 +72,7 @@ inline std::vector<Vec<2>> place_melted_lattice(std::size_t count, double radius
     (sites_for(mid).size() >= count ? lo : hi) = mid;
   }
   std::vector<Vec<2>> sites = sites_for(lo);
-  // Random vacancies: a partial Fisher-Yates shuffle keeps `count` sites.
-  for (std::size_t k = 0; k < count; ++k) {
-    Philox random(stream::lattice_vacancy, seed, 0, k);
-    const auto pick = k + static_cast<std::size_t>(random.uniform() * static_cast<double>(sites.size() - k));
-    std::swap(sites[k], sites[std::min(pick, sites.size() - 1)]);
-  }
-  sites.resize(count);
+  keep_random_sites<2>(sites, count, seed);
   if (melt_collisions <= 0.0 || count < 2) return sites;
 
   World world(count);
