@@ -17,11 +17,13 @@
 #include "engine/h5_handle.hpp"
 #include "engine/h5md_reader.hpp"
 #include "engine/input_error.hpp"
+#include "engine/mpi_launch.hpp"
 #include "engine/particle_export.hpp"
 #include "engine/provenance.hpp"
 #include "engine/runner.hpp"
 #include "engine/scenario.hpp"
 #include "engine/sweep_plan.hpp"
+#include "engine/sweep_ranks.hpp"
 #include "engine/sweep_runner.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/version.hpp"
@@ -150,7 +152,8 @@ int main(int argc, char** argv) {
   SweepOptions sweep_options;
   auto* sweep = app.add_subcommand("sweep", "run a parameter sweep or ensemble from a sweep file on all cores");
   sweep->add_option("file", sweep_file, "sweep description (.toml, see docs/sweeps.md)")->required();
-  sweep->add_option("-j,--jobs", sweep_options.workers, "runs at a time (default: all cores)")
+  sweep->add_option("-j,--jobs,--threads", sweep_options.workers,
+                    "runs at a time (default: all cores; under mpirun, per rank: the cores it is bound to)")
       ->check(CLI::Range(1, 4096));
   sweep->add_option("-o,--output", sweep_output, "result directory (default: the file's `output`)");
   std::string shard_text;
@@ -204,6 +207,16 @@ int main(int argc, char** argv) {
                             "--collect writes the summary");
         sweep_options.shard = parse_shard(shard_text);
       }
+      const int ranks = mpi_world_size_from_environment();
+#ifdef GRANFLOW_WITH_MPI
+      if (ranks > 0) return run_sweep_on_ranks(sweep_file, sweep_output, sweep_options);
+#else
+      if (ranks > 1)
+        throw ConfigError(fmt::format("granflow sweep was started as {} MPI ranks, but this granflow was built "
+                                      "without MPI, so every rank would run the whole sweep; build it with "
+                                      "-DGRANFLOW_MPI=ON, or split the sweep with --shard I/N",
+                                      ranks));
+#endif
       return run_sweep(read_sweep_plan(sweep_file, sweep_output), sweep_options);
     }
     if (*list) list_command();

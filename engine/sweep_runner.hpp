@@ -9,7 +9,9 @@
 // and no summary is written; `collect` runs nothing and writes the summary
 // of what all shards left, naming what is missing or failed.
 
+#include <cstddef>
 #include <string>
+#include <vector>
 
 #include "engine/sweep_plan.hpp"
 #include "engine/sweep_shards.hpp"
@@ -27,5 +29,32 @@ struct SweepOptions {
 // stopped on a physical failure, threw, or (collect) has no result (the
 // others still run and are summarised).
 int run_sweep(const SweepPlan& plan, const SweepOptions& options);
+
+// The pieces of run_sweep that a sweep spread over MPI ranks shares.
+
+// The runs one invocation owes (all of them, or a shard's) and what is known
+// of each.
+struct SweepWork {
+  std::vector<bool> mine;           // run k belongs to this invocation
+  std::vector<std::string> status;  // done, stopped (exit N), failed, pending; missing (collect)
+  std::vector<std::size_t> todo;    // runs still to do, longest expected first
+  std::size_t assigned = 0;         // runs of this invocation, finished or not
+  bool summary_checked = false;     // summary names checked against a result file
+};
+
+// Creates the result directory and reads what earlier attempts left.
+SweepWork survey_sweep(const SweepPlan& plan, const SweepOptions& options);
+
+// workers: how the runs are spread ("2 workers", "3 ranks x 2 workers").
+void log_sweep_start(const SweepPlan& plan, const SweepOptions& options, const SweepWork& work,
+                     const std::string& workers);
+
+// Runs plan.runs[k] into its result file and records its outcome beside it;
+// returns the outcome (a failure is logged, never thrown).
+std::string execute_sweep_run(const SweepPlan& plan, std::size_t k);
+
+// Once every run of `work` has an outcome: the shard record or the summary
+// tables, and the exit status.
+int conclude_sweep(const SweepPlan& plan, const SweepOptions& options, const SweepWork& work);
 
 }  // namespace granflow

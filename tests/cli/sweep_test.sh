@@ -3,7 +3,8 @@
 # summaries; a sweep killed with SIGKILL and run again finishes the missing
 # points and gives the same summary as an uninterrupted one; three shards
 # and --collect give the same summary, and a missing shard is named; bad
-# sweep files exit with status 2 and a message naming the problem.
+# sweep files exit with status 2 and a message naming the problem; a build
+# without MPI started as MPI ranks refuses to run.
 set -u
 granflow="$1"
 scenario="$2"
@@ -141,6 +142,15 @@ sed -i 's/"run.t_stop" = 30.0/"run.t_stop" = 20.0/' "$work/sweep.toml"
 output=$("$granflow" sweep "$work/sweep.toml" -o "$work/one" -q 2>&1); status=$?
 [[ $status -eq 2 && "$output" == *"different configuration"* ]] && echo "ok: stale result directory refused" \
   || fail "stale result directory: exit $status: $output"
+
+# Without MPI, a sweep started as several ranks would run once per rank into
+# the same directory: refused, naming the build option (an MPI build is
+# checked under mpirun by sweep_mpi_test.sh).
+if "$granflow" --version | grep -q "GRANFLOW_MPI=OFF"; then
+  output=$(OMPI_COMM_WORLD_SIZE=2 "$granflow" sweep "$work/sweep.toml" -o "$work/ranks" -q 2>&1); status=$?
+  [[ $status -eq 2 && "$output" == *"-DGRANFLOW_MPI=ON"* && ! -e "$work/ranks" ]] \
+    && echo "ok: a build without MPI refuses to run as MPI ranks" || fail "sweep as 2 ranks without MPI: exit $status: $output"
+fi
 
 [[ $failures -eq 0 ]] && echo "all sweep checks passed" || echo "$failures sweep checks failed"
 exit $((failures > 0))
