@@ -17,7 +17,6 @@
 #include <vector>
 
 #include "engine/config.hpp"
-#include "engine/progress.hpp"
 #include "engine/runner.hpp"
 #include "engine/sweep_results.hpp"
 
@@ -95,7 +94,13 @@ class RunSlots {
         run = queued_.front();
         queued_.pop_front();
       }
-      std::string outcome = execute_sweep_run(plan_, run);
+      std::string outcome;
+      try {
+        outcome = execute_sweep_run(plan_, run);
+      } catch (const std::exception& error) {  // its outcome could not be recorded (a full disk)
+        spdlog::error("{}: {}", plan_.runs[run].output.string(), error.what());
+        outcome = "failed";
+      }
       {
         std::lock_guard lock(mutex_);
         finished_.push_back({run, std::move(outcome)});
@@ -162,32 +167,14 @@ long long wait_for_assignment() {
 // come back and every rank has been told that nothing is left.
 void deal_runs(const SweepPlan& plan, SweepWork& work, int ranks, int workers, bool show_progress) {
   RunSlots slots(plan, workers);
+  SweepTally tally(plan, work, show_progress);
   std::size_t next = 0;
-  bool abandoned = false;
-  std::optional<ConfigError> summary_error;
   std::vector<std::size_t> outstanding(static_cast<std::size_t>(ranks), 0);
   std::vector<bool> released(static_cast<std::size_t>(ranks), false);
   released[0] = true;
-  std::size_t done = 0;
-  Progress progress("sweep", "runs/s", show_progress);
   const auto take = [&]() -> long long {
-    if (abandoned || next == work.todo.size()) return no_run;
+    if (tally.abandoned() || next == work.todo.size()) return no_run;
     return static_cast<long long>(work.todo[next++]);
-  };
-  const auto record = [&](std::size_t run, const std::string& outcome) {
-    work.status[run] = outcome;
-    if (!work.summary_checked && std::filesystem::exists(plan.runs[run].output)) {
-      work.summary_checked = true;
-      try {
-        check_summary_names(plan, plan.runs[run].output);
-      } catch (const ConfigError& error) {
-        summary_error = error;
-        abandoned = true;
-      }
-    }
-    ++done;
-    progress.update(static_cast<double>(done) / static_cast<double>(work.todo.size()), static_cast<double>(done),
-                    fmt::format("{}/{} runs done", work.assigned - work.todo.size() + done, work.assigned));
   };
   for (;;) {
     while (slots.has_room()) {
@@ -199,7 +186,7 @@ void deal_runs(const SweepPlan& plan, SweepWork& work, int ranks, int workers, b
       const auto rank = static_cast<std::size_t>(report->rank);
       if (report->run != no_run) {
         --outstanding[rank];
-        record(static_cast<std::size_t>(report->run), report->outcome);
+        tally.record(static_cast<std::size_t>(report->run), report->outcome);
       }
       if (report->wants_more) {
         const long long run = take();
@@ -210,14 +197,13 @@ void deal_runs(const SweepPlan& plan, SweepWork& work, int ranks, int workers, b
           ++outstanding[rank];
       }
     }
-    for (const auto& finished : slots.collect(poll_interval)) record(finished.run, finished.outcome);
-    const bool nothing_left = abandoned || next == work.todo.size();
+    for (const auto& finished : slots.collect(poll_interval)) tally.record(finished.run, finished.outcome);
+    const bool nothing_left = tally.abandoned() || next == work.todo.size();
     bool ranks_done = true;
     for (int r = 0; r < ranks; ++r) ranks_done = ranks_done && released[r] && outstanding[r] == 0;
     if (nothing_left && ranks_done && slots.busy() == 0) break;
   }
-  progress.finish();
-  if (summary_error) throw *summary_error;
+  tally.finish();
 }
 
 // Ranks other than 0: ask for a run whenever a worker is free, report each

@@ -7,7 +7,6 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <atomic>
 #include <mutex>
 #include <optional>
 
@@ -179,6 +178,30 @@ int conclude_sweep(const SweepPlan& plan, const SweepOptions& options, const Swe
   return failures ? 3 : 0;
 }
 
+SweepTally::SweepTally(const SweepPlan& plan, SweepWork& work, bool show_progress)
+    : plan_(plan), work_(work), progress_("sweep", "runs/s", show_progress) {}
+
+void SweepTally::record(std::size_t run, const std::string& outcome) {
+  work_.status[run] = outcome;
+  if (!work_.summary_checked && std::filesystem::exists(plan_.runs[run].output)) {
+    work_.summary_checked = true;
+    try {
+      check_summary_names(plan_, plan_.runs[run].output);
+    } catch (const ConfigError& error) {
+      summary_error_ = error;
+      abandoned_ = true;
+    }
+  }
+  ++done_;
+  progress_.update(static_cast<double>(done_) / static_cast<double>(work_.todo.size()), static_cast<double>(done_),
+                   fmt::format("{}/{} runs done", work_.assigned - work_.todo.size() + done_, work_.assigned));
+}
+
+void SweepTally::finish() {
+  progress_.finish();
+  if (summary_error_) throw *summary_error_;
+}
+
 int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
   SweepWork work = survey_sweep(plan, options);
   if (options.collect) return collect_summary(plan, work.status);
@@ -189,42 +212,24 @@ int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
   const auto level = spdlog::get_level();
   spdlog::set_level(spdlog::level::warn);
   std::mutex report;
-  std::atomic<std::size_t> done{0};
-  std::atomic<bool> abandoned{false};
-  std::optional<ConfigError> summary_error;
-  Progress progress("sweep", "runs/s", options.progress);
+  SweepTally tally(plan, work, options.progress);
   tbb::task_arena arena(workers);
   arena.execute([&] {
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, work.todo.size(), 1),
         [&](const tbb::blocked_range<std::size_t>& range) {
           for (std::size_t t = range.begin(); t != range.end(); ++t) {
+            if (tally.abandoned()) continue;
             const std::size_t k = work.todo[t];
-            if (abandoned) continue;
             const std::string outcome = execute_sweep_run(plan, k);
             std::lock_guard lock(report);
-            work.status[k] = outcome;
-            if (!work.summary_checked && std::filesystem::exists(plan.runs[k].output)) {
-              work.summary_checked = true;
-              try {
-                check_summary_names(plan, plan.runs[k].output);
-              } catch (const ConfigError& error) {
-                summary_error = error;
-                abandoned = true;
-              }
-            }
-            const std::size_t finished_runs = ++done;
-            progress.update(static_cast<double>(finished_runs) / static_cast<double>(work.todo.size()),
-                            static_cast<double>(finished_runs),
-                            fmt::format("{}/{} runs done", work.assigned - work.todo.size() + finished_runs,
-                                        work.assigned));
+            tally.record(k, outcome);
           }
         },
         tbb::simple_partitioner());
   });
-  progress.finish();
   spdlog::set_level(level);
-  if (summary_error) throw *summary_error;
+  tally.finish();
   return conclude_sweep(plan, options, work);
 }
 

@@ -9,10 +9,14 @@
 // and no summary is written; `collect` runs nothing and writes the summary
 // of what all shards left, naming what is missing or failed.
 
+#include <atomic>
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "engine/config.hpp"
+#include "engine/progress.hpp"
 #include "engine/sweep_plan.hpp"
 #include "engine/sweep_shards.hpp"
 
@@ -52,6 +56,28 @@ void log_sweep_start(const SweepPlan& plan, const SweepOptions& options, const S
 // Runs plan.runs[k] into its result file and records its outcome beside it;
 // returns the outcome (a failure is logged, never thrown).
 std::string execute_sweep_run(const SweepPlan& plan, std::size_t k);
+
+// Takes the outcomes of runs as they finish (one caller at a time): each
+// run's status, the summary names checked against the first result, and the
+// progress line.
+class SweepTally {
+ public:
+  SweepTally(const SweepPlan& plan, SweepWork& work, bool show_progress);
+  void record(std::size_t run, const std::string& outcome);
+  // A summary name is not an observable of the results: start no more runs.
+  bool abandoned() const { return abandoned_; }
+  // Once the last run is in: ends the progress line, and throws the
+  // ConfigError naming the summary name if there was one.
+  void finish();
+
+ private:
+  const SweepPlan& plan_;
+  SweepWork& work_;
+  Progress progress_;
+  std::size_t done_ = 0;
+  std::atomic<bool> abandoned_{false};
+  std::optional<ConfigError> summary_error_;
+};
 
 // Once every run of `work` has an outcome: the shard record or the summary
 // tables, and the exit status.

@@ -14,19 +14,8 @@ fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 ranks() { local n="$1"; shift; "$mpiexec" -np "$n" --oversubscribe "$granflow" "$@"; }
 
-# 4 restitutions x 2 repeats of a small cooling gas, ~0.5 s per run.
-cat > "$work/sweep.toml" <<TOML
-scenario_file = "$scenario"
-output = "unused"
-repeats = 2
-summary = ["temperature", "collisions_per_particle", "pair_collisions"]
-[set]
-"system.count" = 2000
-"run.t_stop" = 30.0
-"output.positions" = "none"
-[grid]
-collision.restitution = [1.0, 0.9, 0.8, 0.6]
-TOML
+source "$(dirname "$0")/cooling_sweep.sh"
+write_cooling_sweep "$work/sweep.toml" "$scenario"
 
 same_tables() {  # same_tables DIR what
   for table in summary.csv summary_runs.csv; do

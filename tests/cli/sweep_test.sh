@@ -13,19 +13,8 @@ trap 'rm -rf "$work"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 
-# 4 restitutions x 2 repeats of a small cooling gas, ~0.5 s per run.
-cat > "$work/sweep.toml" <<TOML
-scenario_file = "$scenario"
-output = "unused"
-repeats = 2
-summary = ["temperature", "collisions_per_particle", "pair_collisions"]
-[set]
-"system.count" = 2000
-"run.t_stop" = 30.0
-"output.positions" = "none"
-[grid]
-collision.restitution = [1.0, 0.9, 0.8, 0.6]
-TOML
+source "$(dirname "$0")/cooling_sweep.sh"
+write_cooling_sweep "$work/sweep.toml" "$scenario"
 
 "$granflow" sweep "$work/sweep.toml" -j 1 -o "$work/one" -q || fail "sweep with 1 worker exited with $?"
 "$granflow" sweep "$work/sweep.toml" -j 2 -o "$work/two" -q || fail "sweep with 2 workers exited with $?"
