@@ -216,8 +216,9 @@ class EventDrivenGas : public Stateful {
 
   // Everything the engine needs to continue exactly where it was, beside the
   // World's components (kept in the same storage order), as flat arrays.
-  // Cell lists are rebuilt on restore, which can change the order in which
-  // equal-time candidate collisions are compared, and nothing else.
+  // The cell lists keep their order too: it is the order in which a
+  // prediction meets its candidates, and a resumed run follows the
+  // uninterrupted one bit for bit only if its predictions do.
   StateMap save_state() const override {
     StateMap out;
     const std::size_t n = world_.size();
@@ -234,6 +235,19 @@ class EventDrivenGas : public Stateful {
                                static_cast<double>(plan_[i].partner_count), static_cast<double>(event_kind_[i])});
       cell.push_back(static_cast<double>(grid_.serial(grid_.cell_of(static_cast<std::uint32_t>(i)))));
       event.push_back(calendar_.time_of(static_cast<std::uint32_t>(i)));
+    }
+    // Each particle's place in its cell's list, 0 at the head.
+    auto& place = out["cell_place"];
+    place.assign(n, 0.0);
+    std::vector<bool> counted(n, false);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t c = grid_.cell_of(static_cast<std::uint32_t>(i));
+      if (counted[i]) continue;
+      double k = 0.0;
+      for (std::int32_t m = grid_.head(c); m >= 0; m = grid_.next(static_cast<std::uint32_t>(m)), k += 1.0) {
+        place[static_cast<std::size_t>(m)] = k;
+        counted[static_cast<std::size_t>(m)] = true;
+      }
     }
     const auto& s = statistics_;
     out["scalars"] = {now_, kinetic_energy_, static_cast<double>(next_resort_), static_cast<double>(s.pair_collisions),
@@ -269,8 +283,15 @@ class EventDrivenGas : public Stateful {
       plan_[i] = Plan{plan[4 * i], static_cast<std::uint32_t>(plan[4 * i + 1]),
                       static_cast<std::uint32_t>(plan[4 * i + 2])};
       event_kind_[i] = static_cast<EventKind>(plan[4 * i + 3]);
-      grid_.insert(static_cast<std::uint32_t>(i), grid_.from_serial(static_cast<std::uint64_t>(cell[i])));
     }
+    // Lists grow at their heads: inserting from the tail end rebuilds each
+    // in its saved order (checkpoints without places get index order).
+    std::vector<std::uint32_t> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    if (const auto place = in.find("cell_place"); place != in.end())
+      std::stable_sort(order.begin(), order.end(),
+                       [&](std::uint32_t a, std::uint32_t b) { return place->second[a] > place->second[b]; });
+    for (const std::uint32_t i : order) grid_.insert(i, grid_.from_serial(static_cast<std::uint64_t>(cell[i])));
     const auto& s = in.at("scalars");
     now_ = s.at(0);
     calendar_.rebuild(now_, in.at("event_time"));
@@ -328,6 +349,12 @@ class EventDrivenGas : public Stateful {
     const auto& cell = in.at("cell");
     const auto& event = in.at("event_time");
     const auto cells = static_cast<double>(grid_.cell_total());
+    if (const auto place = in.find("cell_place"); place != in.end()) {
+      if (place->second.size() != n) fail("cell list places do not match the number of particles");
+      for (std::size_t i = 0; i < n; ++i)
+        if (!(place->second[i] >= 0 && place->second[i] < static_cast<double>(n)))
+          fail(fmt::format("particle {} has cell list place {}", i, place->second[i]));
+    }
     for (std::size_t i = 0; i < n; ++i) {
       if (std::isnan(plan[4 * i]) || !(plan[4 * i + 1] >= 0 && plan[4 * i + 1] < static_cast<double>(n)) ||
           plan[4 * i + 1] != std::floor(plan[4 * i + 1]) || !(plan[4 * i + 2] >= 0) ||
