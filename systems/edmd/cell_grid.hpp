@@ -9,7 +9,7 @@
 // neighbours are fixed offsets in memory and no prediction wraps indices.
 // Across a periodic face a halo cell shares the list of the cell it images
 // (its head is kept equal to that cell's head); across a wall it stays empty.
-// A halo cell's particles are seen shifted by one box length (shift()).
+// A halo cell's particles are seen shifted by one box length (shift_offset()).
 
 #include <algorithm>
 #include <array>
@@ -30,6 +30,7 @@ class CellGrid {
   static constexpr int neighbour_count = D == 2 ? 9 : 27;
   // Shift slot of a neighbour on the same side of every periodic face.
   static constexpr std::uint8_t unshifted = (neighbour_count - 1) / 2;
+  static constexpr std::int32_t unshifted_offset = D * unshifted;
   // Memory bound: at most this many cells (4 bytes each) per particle.
   static constexpr std::size_t max_cells_per_particle = 3;
   using Coordinates = std::array<std::int32_t, D>;
@@ -75,18 +76,23 @@ class CellGrid {
       neighbour_offset_[static_cast<std::size_t>(n)] = offset;
     }
     for (int slot = 0; slot < neighbour_count; ++slot)
-      for (int a = 0, rest = slot; a < D; ++a, rest /= 3) shift_[static_cast<std::size_t>(slot)][a] = (rest % 3 - 1) * length_[a];
+      for (int a = 0, rest = slot; a < D; ++a, rest /= 3)
+        shift_[static_cast<std::size_t>(D * slot + a)] = (rest % 3 - 1) * length_[a];
     // A halo cell beyond a periodic face shows the cell it images one box
     // length away, whoever looks at it.
+    // A cell inside the box on a periodic face is marked: its list is
+    // mirrored into halo cells whenever its head changes.
     shift_slot_.assign(padded_total, unshifted);
     for (std::size_t cell = 0; cell < padded_total; ++cell) {
       int slot = 0;
+      bool imaged = false;
       for (int a = D - 1, weight = neighbour_count / 3; a >= 0; --a, weight /= 3) {
         const auto padded = static_cast<std::int32_t>(cell / static_cast<std::size_t>(stride_[a])) % (count_[a] + 2);
         const int side = !periodic_[a] ? 0 : padded == 0 ? -1 : padded == count_[a] + 1 ? 1 : 0;
         slot += (side + 1) * weight;
+        imaged = imaged || (periodic_[a] && (padded == 1 || padded == count_[a]));
       }
-      shift_slot_[cell] = static_cast<std::uint8_t>(slot);
+      shift_slot_[cell] = static_cast<std::uint8_t>(slot | (imaged ? imaged_bit : 0));
     }
     build_walks();
     head_.assign(padded_total, -1);
@@ -109,8 +115,10 @@ class CellGrid {
   void prefetch_cell(std::uint32_t cell) const { __builtin_prefetch(&head_[cell]); }
   std::int32_t next(std::uint32_t i) const { return member_[i].next; }
   std::int32_t neighbour_offset(int n) const { return neighbour_offset_[static_cast<std::size_t>(n)]; }
-  // Where a particle listed in `cell` is seen from the box's neighbouring cells.
-  const Vec<D>& shift(std::uint32_t cell) const { return shift_[shift_slot_[cell]]; }
+  // Where a particle listed in `cell` is seen from the box's neighbouring
+  // cells: the D components at this offset of shift_table().
+  std::int32_t shift_offset(std::uint32_t cell) const { return D * (shift_slot_[cell] & ~imaged_bit); }
+  const double* shift_table() const { return shift_.data(); }
 
   // The cells to scan after a crossing through `face` (2 axis + upward):
   // those that have just become adjacent, as offsets from the new cell.
@@ -152,13 +160,6 @@ class CellGrid {
     std::int32_t cell = 0;
     for (int a = 0; a < D; ++a) cell += (c[a] + 1) * stride_[a];
     return static_cast<std::uint32_t>(cell);
-  }
-
-  // Whether some neighbour of the cell at c lies across a periodic face.
-  bool sees_images(const Coordinates& c) const {
-    bool images = false;
-    for (int a = 0; a < D; ++a) images = images || (periodic_[a] && (c[a] == 0 || c[a] == count_[a] - 1));
-    return images;
   }
 
   // Cell containing a position inside the box.
@@ -249,8 +250,8 @@ class CellGrid {
 
   // Copies a face cell's head into the halo cells that image it.
   void mirror(std::uint32_t cell) {
+    if (!(shift_slot_[cell] & imaged_bit)) return;
     const Coordinates c = coordinates(cell);
-    if (!sees_images(c)) return;
     // Per axis, the padded coordinates at which this cell appears: its own,
     // and the halo layer beyond the opposite periodic face (both for a
     // single-cell axis).
@@ -281,8 +282,11 @@ class CellGrid {
   std::array<bool, D> periodic_{};
   std::array<double, D> length_{};
   std::array<std::int32_t, neighbour_count> neighbour_offset_{};
-  std::array<Vec<D>, neighbour_count> shift_{};
-  std::vector<std::uint8_t> shift_slot_;  // per cell of the grid with its halo
+  std::array<double, D * neighbour_count> shift_{};
+  // Per cell of the grid with its halo: the slot of its shift, plus
+  // imaged_bit on a cell inside the box that halo cells image.
+  static constexpr std::uint8_t imaged_bit = 0x80;
+  std::vector<std::uint8_t> shift_slot_;
   std::array<std::array<std::int32_t, neighbour_count / 3>, 2 * D> entered_{};
   std::array<PairWalk, neighbour_count> walks_{};
   PairWalk no_walk_{};

@@ -45,7 +45,7 @@
 #include "engine/config.hpp"
 #include "engine/state_map.hpp"
 #include "engine/world.hpp"
-#include "systems/edmd/candidate_buffer.hpp"
+#include "systems/edmd/candidate_list.hpp"
 #include "systems/edmd/cell_grid.hpp"
 #include "systems/edmd/collapse_monitor.hpp"
 #include "systems/edmd/collision_rule.hpp"
@@ -433,8 +433,12 @@ class EventDrivenGas : public Stateful {
     const auto& position = world_.template component<Position<D>>();
     const auto& velocity = world_.template component<Velocity<D>>();
     const auto& radius = world_.template component<Radius>();
-    hot_.resize(world_.size());
+    // One record more, the sentinel that pads the candidate list: its NaN
+    // position fails every contact test.
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+    hot_.resize(world_.size() + 1);
     for (std::size_t i = 0; i < world_.size(); ++i) hot_[i] = {position[i], velocity[i], 0.0, radius[i]};
+    hot_[world_.size()] = {Vec<D>::Constant(nan), Vec<D>::Zero(), 0.0, 0.0};
   }
 
   // Z-order (Morton) of the cells: a cell's neighbours in every direction
@@ -513,9 +517,19 @@ class EventDrivenGas : public Stateful {
     return best;
   }
 
-  // Copies the particles listed in `cell` into the candidate buffer.
-  [[gnu::always_inline]] void gather(typename CandidateBuffer<D>::Writer& writer, std::uint32_t cell) {
-    writer.append_list(grid_.head(cell), [this](std::uint32_t k) { return grid_.next(k); }, grid_.shift(cell));
+  // Lists the particles of `cell` as candidates.
+  [[gnu::always_inline]] void gather(CandidateList::Writer<D>& writer, std::uint32_t cell) {
+    const std::int32_t head = grid_.head(cell);
+    if (head < 0) return;
+    writer.append_list(head, [this](std::uint32_t k) { return grid_.next(k); }, grid_.shift_offset(cell));
+  }
+
+  CandidateList::Writer<D> start_candidates() {
+    return candidates_.refill(hot_.data(), static_cast<std::int32_t>(world_.size()), CellGrid<D>::unshifted_offset);
+  }
+  EarliestContact earliest_among(std::size_t begin, std::size_t end, std::uint32_t i) {
+    return earliest_contact<D>(candidates_, begin, end, hot_.data(), grid_.shift_table(), CellGrid<D>::unshifted_offset,
+                               hot_[i], now_);
   }
 
   // Re-predicts the two particles of a collision in one pass: they are
@@ -541,7 +555,7 @@ class EventDrivenGas : public Stateful {
     // i tests the cells only it sees and the shared ones, j the shared ones
     // and its own. Neither need be left out: the pair has just collided, so
     // it recedes, and a particle never approaches itself.
-    auto writer = candidates_.refill(hot_.data(), now_);
+    auto writer = start_candidates();
     const auto cell_at = [&](int u) {
       return static_cast<std::uint32_t>(static_cast<std::int32_t>(here_i) + walk.offsets[static_cast<std::size_t>(u)]);
     };
@@ -551,21 +565,22 @@ class EventDrivenGas : public Stateful {
     const std::size_t shared_end = writer.size();
     for (int u = walk.shared_end; u < walk.total; ++u) gather(writer, cell_at(u));
     writer.close();
-    const auto for_i = earliest_contact<D>(candidates_, 0, shared_end, hot_[i], now_);
-    const auto for_j = earliest_contact<D>(candidates_, shared_begin, candidates_.size(), hot_[j], now_);
+    const auto for_i = earliest_among(0, shared_end, i);
+    const auto for_j = earliest_among(shared_begin, candidates_.size(), j);
     calendar_.schedule(i, conclude(i, best_i, kind_i, for_i.time, candidates_.index(for_i.position)));
     calendar_.schedule(j, conclude(j, best_j, kind_j, for_j.time, candidates_.index(for_j.position)));
   }
 
   // Finds particle i's earliest event; i must be at time now_.
   // Returns its time; records its kind and partner.
-  // After a cell crossing through `entered_face` only the cells that have
-  // just become adjacent are scanned (9 of 27 in 3D): the particle's
-  // trajectory is unchanged, so its stored earliest collision with the old
-  // neighbours still holds, provided that partner has not changed course.
-  double predict(std::uint32_t i, int entered_face = -1) {
+  double predict(std::uint32_t i) { return predict(i, grid_.coordinates(grid_.cell_of(i)), -1); }
+  // The same for particle i in the cell at `cell` (its coordinates). After
+  // a cell crossing through `entered_face` only the cells that have just
+  // become adjacent are scanned (9 of 27 in 3D): the particle's trajectory is
+  // unchanged, so its stored earliest collision with the old neighbours
+  // still holds, provided that partner has not changed course.
+  double predict(std::uint32_t i, const typename CellGrid<D>::Coordinates& cell, int entered_face) {
     const std::uint32_t here = grid_.cell_of(i);
-    const auto cell = grid_.coordinates(here);
     double best = never;
     EventKind kind = EventKind::none;
     std::uint32_t partner = 0;
@@ -579,7 +594,7 @@ class EventDrivenGas : public Stateful {
       }
     }
     boundary_event(i, cell, best, kind);
-    auto writer = candidates_.refill(hot_.data(), now_);
+    auto writer = start_candidates();
     if (entered_face >= 0) {
       for (const std::int32_t offset : grid_.entered_cells(entered_face))
         gather(writer, static_cast<std::uint32_t>(static_cast<std::int32_t>(here) + offset));
@@ -589,7 +604,7 @@ class EventDrivenGas : public Stateful {
     }
     writer.close();
     // i itself need not be left out: a particle never approaches itself.
-    const auto earliest = earliest_contact<D>(candidates_, 0, candidates_.size(), hot_[i], now_);
+    const auto earliest = earliest_among(0, candidates_.size(), i);
     if (earliest.time < best_collision) {
       best_collision = earliest.time;
       partner = candidates_.index(earliest.position);
@@ -597,7 +612,7 @@ class EventDrivenGas : public Stateful {
     return conclude(i, best, kind, best_collision, partner);
   }
 
-  void repredict(std::uint32_t i, int entered_face = -1) { calendar_.schedule(i, predict(i, entered_face)); }
+  void repredict(std::uint32_t i) { calendar_.schedule(i, predict(i)); }
 
   void process(std::uint32_t i) {
     const EventKind kind = event_kind_[i];
@@ -628,8 +643,7 @@ class EventDrivenGas : public Stateful {
     } else {
       advance_particle(i);
       const int face = static_cast<int>(kind) - static_cast<int>(EventKind::crossing);
-      cross_cell(i, face);
-      repredict(i, face);
+      calendar_.schedule(i, predict(i, cross_cell(i, face), face));
     }
   }
 
@@ -658,7 +672,8 @@ class EventDrivenGas : public Stateful {
     if (observer_) observer_({now_, id_[i], id_[j]});
   }
 
-  void cross_cell(std::uint32_t i, int face) {
+  // Moves particle i into the next cell through `face`; returns that cell's coordinates.
+  typename CellGrid<D>::Coordinates cross_cell(std::uint32_t i, int face) {
     const int axis = face / 2;
     const bool upward = face % 2 == 1;
     auto c = grid_.coordinates(grid_.cell_of(i));
@@ -675,6 +690,7 @@ class EventDrivenGas : public Stateful {
     ++statistics_.cell_crossings;
     grid_.erase(i);
     grid_.insert(i, grid_.linear(c));
+    return c;
   }
 
   World& world_;
@@ -703,7 +719,7 @@ class EventDrivenGas : public Stateful {
   std::vector<Plan> plan_;
   std::vector<EventKind> event_kind_;
   // Scratch of a prediction, kept to avoid allocating per event.
-  CandidateBuffer<D> candidates_;
+  CandidateList candidates_;
 
   double now_ = 0.0;
   double kinetic_energy_ = 0.0;

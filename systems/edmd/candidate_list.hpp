@@ -1,0 +1,122 @@
+#pragma once
+// The candidate partners of one prediction: the indices of their motion
+// records, in the order the cell lists were walked, and for each the periodic
+// image it is seen through (an offset into the grid's table of shifts). The
+// contact test loads the records itself, with gathers where the machine has
+// them, so a candidate costs the walk two stores instead of a copy of its
+// record, and a candidate that both particles of a collision see is listed
+// once and tested by both (each over its own range).
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "systems/edmd/motion_record.hpp"
+
+namespace granflow::edmd {
+
+class CandidateList {
+ public:
+  // The contact test runs over whole groups of `group` candidates, so that it
+  // needs no remainder loop: testing a particle of the list outside a range
+  // does no harm (it is a real particle, in cells too far away to be reached
+  // before a cell crossing), and Writer::close() fills the rest of the last
+  // group with the sentinel, a record no test accepts.
+  static constexpr std::size_t group = 4;
+
+  CandidateList() { grow(); }
+
+  std::size_t size() const { return size_; }
+  const std::int32_t* indices() const { return index_.data(); }
+  // Offsets, in doubles, of each candidate's periodic shift in the shift table.
+  const std::int32_t* shift_offsets() const { return shift_.data(); }
+  std::uint32_t index(std::size_t c) const { return static_cast<std::uint32_t>(index_[c]); }
+  // Room for one contact time per candidate, the last group whole.
+  double* times() { return times_.data(); }
+
+  // Appends candidates cell list by cell list. Each candidate's record is
+  // prefetched as it is listed, so that the records of all candidates come
+  // from memory in parallel while the walk goes on, not one dependent miss
+  // after another in the test. The list's pointers and size are held in
+  // locals meanwhile: stores to the list could otherwise be taken to change
+  // them (or the cell lists).
+  template <int D>
+  class Writer {
+   public:
+    Writer(CandidateList& list, const MotionRecord<D>* records, std::int32_t sentinel, std::int32_t unshifted)
+        : list_(list), records_(records), sentinel_(sentinel), unshifted_(unshifted) {
+      point();
+    }
+
+    // The list starts at `head` and continues at next(k) (negative at the
+    // end); its particles are seen through the shift at `shift_offset`.
+    template <class Next>
+    [[gnu::always_inline]] void append_list(std::int32_t head, Next next, std::int32_t shift_offset) {
+      for (std::int32_t k = head; k >= 0; k = next(static_cast<std::uint32_t>(k))) {
+        if (size_ == capacity_) [[unlikely]] {
+          list_.size_ = size_;
+          list_.grow();
+          point();
+        }
+        __builtin_prefetch(&records_[k]);
+        index_[size_] = k;
+        shift_[size_] = shift_offset;
+        ++size_;
+      }
+    }
+
+    std::size_t size() const { return size_; }
+
+    void close() {
+      // capacity_ is a multiple of the group, so the last group fits.
+      for (std::size_t c = size_; c % group != 0; ++c) {
+        index_[c] = sentinel_;
+        shift_[c] = unshifted_;
+      }
+      list_.size_ = size_;
+    }
+
+   private:
+    void point() {
+      index_ = list_.index_.data();
+      shift_ = list_.shift_.data();
+      capacity_ = list_.capacity_;
+    }
+
+    CandidateList& list_;
+    const MotionRecord<D>* records_;
+    std::int32_t sentinel_;
+    std::int32_t unshifted_;
+    std::size_t size_ = 0;
+    std::size_t capacity_ = 0;
+    std::int32_t* index_ = nullptr;
+    std::int32_t* shift_ = nullptr;
+  };
+
+  // Starts the list afresh; `sentinel` is the index of a record no contact
+  // test accepts (a NaN position), listed as seen through the zero shift at
+  // offset `unshifted`.
+  template <int D>
+  Writer<D> refill(const MotionRecord<D>* records, std::int32_t sentinel, std::int32_t unshifted) {
+    size_ = 0;
+    return Writer<D>(*this, records, sentinel, unshifted);
+  }
+
+ private:
+  [[gnu::noinline]] void grow() {
+    // In whole groups, so that close() always has the rest of the last one.
+    capacity_ = std::max<std::size_t>(16 * group, 2 * capacity_);
+    index_.resize(capacity_);
+    shift_.resize(capacity_);
+    times_.resize(capacity_);
+  }
+
+  std::vector<std::int32_t> index_;
+  std::vector<std::int32_t> shift_;
+  std::vector<double> times_;
+  std::size_t size_ = 0;
+  std::size_t capacity_ = 0;
+};
+
+}  // namespace granflow::edmd
