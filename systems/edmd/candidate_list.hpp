@@ -29,7 +29,8 @@ class CandidateList {
 
   std::size_t size() const { return size_; }
   const std::int32_t* indices() const { return index_.data(); }
-  // Offsets, in doubles, of each candidate's periodic shift in the shift table.
+  // Offsets, in doubles, of each candidate's periodic shift in the shift
+  // table, where the list was written with shifts.
   const std::int32_t* shift_offsets() const { return shift_.data(); }
   std::uint32_t index(std::size_t c) const { return static_cast<std::uint32_t>(index_[c]); }
   // Room for one contact time per candidate, the last group whole.
@@ -52,16 +53,23 @@ class CandidateList {
     // The list starts at `head` and continues at next(k) (negative at the
     // end); its particles are seen through the shift at `shift_offset`.
     template <class Next>
-    [[gnu::always_inline]] void append_list(std::int32_t head, Next next, std::int32_t shift_offset) {
+    [[gnu::always_inline]] void append_shifted_list(std::int32_t head, Next next, std::int32_t shift_offset) {
       for (std::int32_t k = head; k >= 0; k = next(static_cast<std::uint32_t>(k))) {
-        if (size_ == capacity_) [[unlikely]] {
-          list_.size_ = size_;
-          list_.grow();
-          point();
-        }
+        reserve_one();
         __builtin_prefetch(&records_[k]);
         index_[size_] = k;
         shift_[size_] = shift_offset;
+        ++size_;
+      }
+    }
+    // The same for a prediction that sees no periodic image: its shifts are
+    // never read.
+    template <class Next>
+    [[gnu::always_inline]] void append_list(std::int32_t head, Next next) {
+      for (std::int32_t k = head; k >= 0; k = next(static_cast<std::uint32_t>(k))) {
+        reserve_one();
+        __builtin_prefetch(&records_[k]);
+        index_[size_] = k;
         ++size_;
       }
     }
@@ -78,6 +86,14 @@ class CandidateList {
     }
 
    private:
+    [[gnu::always_inline]] void reserve_one() {
+      if (size_ == capacity_) [[unlikely]] {
+        list_.size_ = size_;
+        list_.grow();
+        point();
+      }
+    }
+
     void point() {
       index_ = list_.index_.data();
       shift_ = list_.shift_.data();

@@ -119,6 +119,9 @@ class CellGrid {
   // cells: the D components at this offset of shift_table().
   std::int32_t shift_offset(std::uint32_t cell) const { return D * (shift_slot_[cell] & ~imaged_bit); }
   const double* shift_table() const { return shift_.data(); }
+  // Whether some neighbour of a cell inside the box lies across a periodic
+  // face (the cell is on that face), so that its neighbours need shifts.
+  bool sees_images(std::uint32_t cell) const { return (shift_slot_[cell] & imaged_bit) != 0; }
 
   // The cells to scan after a crossing through `face` (2 axis + upward):
   // those that have just become adjacent, as offsets from the new cell.
@@ -250,7 +253,7 @@ class CellGrid {
 
   // Copies a face cell's head into the halo cells that image it.
   void mirror(std::uint32_t cell) {
-    if (!(shift_slot_[cell] & imaged_bit)) return;
+    if (!sees_images(cell)) return;
     const Coordinates c = coordinates(cell);
     // Per axis, the padded coordinates at which this cell appears: its own,
     // and the halo layer beyond the opposite periodic face (both for a
@@ -284,7 +287,8 @@ class CellGrid {
   std::array<std::int32_t, neighbour_count> neighbour_offset_{};
   std::array<double, D * neighbour_count> shift_{};
   // Per cell of the grid with its halo: the slot of its shift, plus
-  // imaged_bit on a cell inside the box that halo cells image.
+  // imaged_bit on a cell inside the box on a periodic face (halo cells image
+  // it, and it sees them).
   static constexpr std::uint8_t imaged_bit = 0x80;
   std::vector<std::uint8_t> shift_slot_;
   std::array<std::array<std::int32_t, neighbour_count / 3>, 2 * D> entered_{};

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 
 #if defined(__AVX2__)
 #include <immintrin.h>
@@ -94,23 +95,27 @@ template <int D>
   return f;
 }
 
-// Four candidates at once. Most groups see no periodic image (every shift
-// offset 0, the unshifted slot's zero shift): they skip the shift, which
-// would add exact zeros.
-template <int D>
+// Four candidates at once. Where the prediction sees periodic images
+// (WithShifts), a group whose candidates are all unshifted (the zero shift at
+// offset `unshifted`) skips the shift, which would add exact zeros.
+template <int D, bool WithShifts>
 [[gnu::always_inline]] inline __m256d vector_contact(const double* records, const double* shifts,
                                                     const std::int32_t* index, const std::int32_t* shift_offset,
                                                     std::int32_t unshifted, const __m256d* xi, const __m256d* vi,
                                                     __m256d ri, __m256d now) {
   Fields<D> f = load_fields<D>(records, index);
   const __m256d age = _mm256_sub_pd(now, f.t);
-  const __m128i offsets = _mm_loadu_si128(reinterpret_cast<const __m128i*>(shift_offset));
-  const bool shifted = _mm_movemask_epi8(_mm_cmpeq_epi32(offsets, _mm_set1_epi32(unshifted))) != 0xffff;
-  const __m256i shift_at = _mm256_cvtepi32_epi64(offsets);
+  bool shifted = false;
+  __m256i shift_at = _mm256_setzero_si256();
+  if constexpr (WithShifts) {
+    const __m128i offsets = _mm_loadu_si128(reinterpret_cast<const __m128i*>(shift_offset));
+    shifted = _mm_movemask_epi8(_mm_cmpeq_epi32(offsets, _mm_set1_epi32(unshifted))) != 0xffff;
+    shift_at = _mm256_cvtepi32_epi64(offsets);
+  }
   __m256d b = _mm256_setzero_pd(), distance2 = _mm256_setzero_pd(), speed2 = _mm256_setzero_pd();
   for (int a = 0; a < D; ++a) {
     __m256d x = _mm256_add_pd(f.x[a], _mm256_mul_pd(f.v[a], age));
-    if (shifted) x = _mm256_add_pd(x, _mm256_i64gather_pd(shifts + a, shift_at, 8));
+    if (WithShifts && shifted) x = _mm256_add_pd(x, _mm256_i64gather_pd(shifts + a, shift_at, 8));
     const __m256d dx = _mm256_sub_pd(x, xi[a]);
     const __m256d dv = _mm256_sub_pd(f.v[a], vi[a]);
     b = _mm256_add_pd(b, _mm256_mul_pd(dx, dv));
@@ -163,18 +168,23 @@ EarliestContact earliest_contact(CandidateList& candidates, std::size_t begin, s
   }
   const __m256d radius = _mm256_set1_pd(ri), at = _mm256_set1_pd(now);
   __m256d least = _mm256_set1_pd(never);
-  for (std::size_t c = first; c < last; c += group) {
-    const __m256d t =
-        vector_contact<D>(flat, shifts, index + c, shift_offset + c, unshifted, x, v, radius, at);
-    _mm256_storeu_pd(times + c, t);
-    least = _mm256_min_pd(least, t);
-  }
+  const auto scan = [&](auto with_shifts) {
+    for (std::size_t c = first; c < last; c += group) {
+      const __m256d t = vector_contact<D, decltype(with_shifts)::value>(flat, shifts, index + c, shift_offset + c,
+                                                                         unshifted, x, v, radius, at);
+      _mm256_storeu_pd(times + c, t);
+      least = _mm256_min_pd(least, t);
+    }
+  };
+  if (shifts) scan(std::true_type{});
+  else scan(std::false_type{});
   double lanes[group];
   _mm256_storeu_pd(lanes, least);
   for (const double t : lanes) earliest = std::min(earliest, t);
 #else
+  const double zero_shift[D] = {};
   for (std::size_t c = first; c < last; ++c) {
-    const double t = scalar_contact<D>(records[index[c]], shifts + shift_offset[c], xi, vi, ri, now);
+    const double t = scalar_contact<D>(records[index[c]], shifts ? shifts + shift_offset[c] : zero_shift, xi, vi, ri, now);
     times[c] = t;
     earliest = std::min(earliest, t);
   }

@@ -22,8 +22,9 @@ struct EarliestContact {
 
 // Candidates [begin, end) of the list, whose records are `records` (each at
 // its own local time, moved here to `now`) and whose periodic shifts are in
-// `shifts` (at offset `unshifted` the zero shift), against `self`, which is
-// at time `now`.
+// `shifts` (at offset `unshifted` the zero shift; null where the list was
+// written without shifts: none is seen through an image), against `self`,
+// which is at time `now`.
 template <int D>
 EarliestContact earliest_contact(CandidateList& candidates, std::size_t begin, std::size_t end,
                                  const MotionRecord<D>* records, const double* shifts, std::int32_t unshifted,

@@ -29,6 +29,7 @@
 #include <map>
 #include <numeric>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <fmt/format.h>
@@ -517,19 +518,24 @@ class EventDrivenGas : public Stateful {
     return best;
   }
 
-  // Lists the particles of `cell` as candidates.
+  // Lists the particles of `cell` as candidates, with the periodic image
+  // they are seen through where the walk reaches halo cells (Shifted).
+  template <bool Shifted>
   [[gnu::always_inline]] void gather(CandidateList::Writer<D>& writer, std::uint32_t cell) {
     const std::int32_t head = grid_.head(cell);
     if (head < 0) return;
-    writer.append_list(head, [this](std::uint32_t k) { return grid_.next(k); }, grid_.shift_offset(cell));
+    const auto next = [this](std::uint32_t k) { return grid_.next(k); };
+    if constexpr (Shifted) writer.append_shifted_list(head, next, grid_.shift_offset(cell));
+    else writer.append_list(head, next);
   }
 
   CandidateList::Writer<D> start_candidates() {
     return candidates_.refill(hot_.data(), static_cast<std::int32_t>(world_.size()), CellGrid<D>::unshifted_offset);
   }
-  EarliestContact earliest_among(std::size_t begin, std::size_t end, std::uint32_t i) {
-    return earliest_contact<D>(candidates_, begin, end, hot_.data(), grid_.shift_table(), CellGrid<D>::unshifted_offset,
-                               hot_[i], now_);
+  // Most predictions see no periodic image; theirs skip the shifts.
+  EarliestContact earliest_among(std::size_t begin, std::size_t end, std::uint32_t i, bool images) {
+    return earliest_contact<D>(candidates_, begin, end, hot_.data(), images ? grid_.shift_table() : nullptr,
+                               CellGrid<D>::unshifted_offset, hot_[i], now_);
   }
 
   // Re-predicts the two particles of a collision in one pass: they are
@@ -559,14 +565,21 @@ class EventDrivenGas : public Stateful {
     const auto cell_at = [&](int u) {
       return static_cast<std::uint32_t>(static_cast<std::int32_t>(here_i) + walk.offsets[static_cast<std::size_t>(u)]);
     };
-    for (int u = 0; u < walk.first_only; ++u) gather(writer, cell_at(u));
-    const std::size_t shared_begin = writer.size();
-    for (int u = walk.first_only; u < walk.shared_end; ++u) gather(writer, cell_at(u));
-    const std::size_t shared_end = writer.size();
-    for (int u = walk.shared_end; u < walk.total; ++u) gather(writer, cell_at(u));
+    std::size_t shared_begin = 0, shared_end = 0;
+    const auto fill = [&](auto shifted) {
+      constexpr bool with_shifts = decltype(shifted)::value;
+      for (int u = 0; u < walk.first_only; ++u) gather<with_shifts>(writer, cell_at(u));
+      shared_begin = writer.size();
+      for (int u = walk.first_only; u < walk.shared_end; ++u) gather<with_shifts>(writer, cell_at(u));
+      shared_end = writer.size();
+      for (int u = walk.shared_end; u < walk.total; ++u) gather<with_shifts>(writer, cell_at(u));
+    };
+    const bool images = grid_.sees_images(here_i) || grid_.sees_images(grid_.cell_of(j));
+    if (images) fill(std::true_type{});
+    else fill(std::false_type{});
     writer.close();
-    const auto for_i = earliest_among(0, shared_end, i);
-    const auto for_j = earliest_among(shared_begin, candidates_.size(), j);
+    const auto for_i = earliest_among(0, shared_end, i, images);
+    const auto for_j = earliest_among(shared_begin, candidates_.size(), j, images);
     calendar_.schedule(i, conclude(i, best_i, kind_i, for_i.time, candidates_.index(for_i.position)));
     calendar_.schedule(j, conclude(j, best_j, kind_j, for_j.time, candidates_.index(for_j.position)));
   }
@@ -595,16 +608,23 @@ class EventDrivenGas : public Stateful {
     }
     boundary_event(i, cell, best, kind);
     auto writer = start_candidates();
-    if (entered_face >= 0) {
-      for (const std::int32_t offset : grid_.entered_cells(entered_face))
-        gather(writer, static_cast<std::uint32_t>(static_cast<std::int32_t>(here) + offset));
-    } else {
-      for (int n = 0; n < CellGrid<D>::neighbour_count; ++n)
-        gather(writer, static_cast<std::uint32_t>(static_cast<std::int32_t>(here) + grid_.neighbour_offset(n)));
-    }
+    const auto fill = [&](auto shifted) {
+      constexpr bool with_shifts = decltype(shifted)::value;
+      if (entered_face >= 0) {
+        for (const std::int32_t offset : grid_.entered_cells(entered_face))
+          gather<with_shifts>(writer, static_cast<std::uint32_t>(static_cast<std::int32_t>(here) + offset));
+      } else {
+        for (int n = 0; n < CellGrid<D>::neighbour_count; ++n)
+          gather<with_shifts>(writer,
+                              static_cast<std::uint32_t>(static_cast<std::int32_t>(here) + grid_.neighbour_offset(n)));
+      }
+    };
+    const bool images = grid_.sees_images(here);
+    if (images) fill(std::true_type{});
+    else fill(std::false_type{});
     writer.close();
     // i itself need not be left out: a particle never approaches itself.
-    const auto earliest = earliest_among(0, candidates_.size(), i);
+    const auto earliest = earliest_among(0, candidates_.size(), i, images);
     if (earliest.time < best_collision) {
       best_collision = earliest.time;
       partner = candidates_.index(earliest.position);

@@ -69,8 +69,10 @@ double reference_time(const Scene<D>& scene, int k, int offset) {
   return scene.now + contact_time<D>(dx, dv, scene.self.r + record.r);
 }
 
+// With images, candidates are seen through three shifts in turn; without,
+// the list carries no shifts at all.
 template <int D>
-void check_against_reference(unsigned seed) {
+void check_against_reference(unsigned seed, bool images) {
   std::mt19937_64 rng(seed);
   const int count = 37;
   Scene<D> scene = make_scene<D>(rng, count);
@@ -79,12 +81,11 @@ void check_against_reference(unsigned seed) {
   auto writer = list.refill(scene.records.data(), count, 0);
   std::vector<std::int32_t> order, offsets;
   for (int k = 0; k < count; ++k) {
-    const std::int32_t offset = D * static_cast<std::int32_t>(k % 3);
-    writer.append_list(k, [](std::uint32_t) { return -1; }, offset);
-    order.push_back(k);
-    offsets.push_back(offset);
-    if (k % 11 == 5) {
-      writer.append_list(k, [](std::uint32_t) { return -1; }, offset);
+    const std::int32_t offset = images ? D * static_cast<std::int32_t>(k % 3) : 0;
+    for (int copy = 0; copy < (k % 11 == 5 ? 2 : 1); ++copy) {
+      const auto end_of_list = [](std::uint32_t) { return -1; };
+      if (images) writer.append_shifted_list(k, end_of_list, offset);
+      else writer.append_list(k, end_of_list);
       order.push_back(k);
       offsets.push_back(offset);
     }
@@ -93,8 +94,8 @@ void check_against_reference(unsigned seed) {
   ASSERT_EQ(list.size(), order.size());
   for (std::size_t begin : {0ul, 1ul, 3ul, 6ul}) {
     for (std::size_t end : {order.size(), order.size() - 1, order.size() - 5, begin + 2}) {
-      const auto found = earliest_contact<D>(list, begin, end, scene.records.data(), scene.shifts.data(), 0,
-                                             scene.self, scene.now);
+      const auto found = earliest_contact<D>(list, begin, end, scene.records.data(),
+                                             images ? scene.shifts.data() : nullptr, 0, scene.self, scene.now);
       // The search may also test candidates of the groups the range touches,
       // never more: compare within those groups.
       const std::size_t first = begin / CandidateList::group * CandidateList::group;
@@ -122,11 +123,13 @@ void check_against_reference(unsigned seed) {
 }
 
 TEST(ContactSearch, MatchesTheScalarContactTimeIn3D) {
-  for (unsigned seed = 1; seed <= 20; ++seed) check_against_reference<3>(seed);
+  for (unsigned seed = 1; seed <= 20; ++seed)
+    for (const bool images : {true, false}) check_against_reference<3>(seed, images);
 }
 
 TEST(ContactSearch, MatchesTheScalarContactTimeIn2D) {
-  for (unsigned seed = 1; seed <= 20; ++seed) check_against_reference<2>(seed);
+  for (unsigned seed = 1; seed <= 20; ++seed)
+    for (const bool images : {true, false}) check_against_reference<2>(seed, images);
 }
 
 TEST(ContactSearch, OverlappingApproachingPairCollidesAtOnceAndRecedingPairNever) {
@@ -140,11 +143,10 @@ TEST(ContactSearch, OverlappingApproachingPairCollidesAtOnceAndRecedingPairNever
   scene.records.push_back({Vec<3>::Constant(nan), Vec<3>::Zero(), 0.0, 0.0});
   CandidateList list;
   auto writer = list.refill(scene.records.data(), 2, 0);
-  writer.append_list(1, [](std::uint32_t) { return -1; }, 0);
-  writer.append_list(0, [](std::uint32_t) { return -1; }, 0);
+  writer.append_list(1, [](std::uint32_t) { return -1; });
+  writer.append_list(0, [](std::uint32_t) { return -1; });
   writer.close();
-  const auto found = earliest_contact<3>(list, 0, 2, scene.records.data(), scene.shifts.data(), 0, scene.self,
-                                         scene.now);
+  const auto found = earliest_contact<3>(list, 0, 2, scene.records.data(), nullptr, 0, scene.self, scene.now);
   EXPECT_EQ(found.time, scene.now);
   EXPECT_EQ(list.index(found.position), 0u);
   EXPECT_EQ(list.times()[0], never);
