@@ -181,6 +181,14 @@ EarliestContact earliest_contact(CandidateList& candidates, std::size_t begin, s
   double lanes[group];
   _mm256_storeu_pd(lanes, least);
   for (const double t : lanes) earliest = std::min(earliest, t);
+  if (earliest == never) return {never, begin};
+  // The first candidate with that time, a group at a time.
+  const __m256d wanted = _mm256_set1_pd(earliest);
+  std::size_t position = first;
+  int found;
+  while ((found = _mm256_movemask_pd(_mm256_cmp_pd(_mm256_loadu_pd(times + position), wanted, _CMP_EQ_OQ))) == 0)
+    position += group;
+  return {earliest, position + static_cast<std::size_t>(__builtin_ctz(static_cast<unsigned>(found)))};
 #else
   const double zero_shift[D] = {};
   for (std::size_t c = first; c < last; ++c) {
@@ -188,11 +196,11 @@ EarliestContact earliest_contact(CandidateList& candidates, std::size_t begin, s
     times[c] = t;
     earliest = std::min(earliest, t);
   }
-#endif
   if (earliest == never) return {never, begin};
   std::size_t position = first;
   while (times[position] != earliest) ++position;
   return {earliest, position};
+#endif
 }
 
 template EarliestContact earliest_contact<2>(CandidateList&, std::size_t, std::size_t, const MotionRecord<2>*,

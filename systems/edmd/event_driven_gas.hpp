@@ -164,7 +164,10 @@ class EventDrivenGas : public Stateful {
   // Processes events up to time `until` (inclusive) or until a limit is hit.
   // Particles are left at their own local times; call synchronize() before
   // reading positions.
-  StopReason advance(double until, const AdvanceLimits& limits = {}) {
+  // Kept out of line, so that the event loop and everything it inlines is
+  // the code of event_driven_gas.cpp, built for the kernels' instruction set,
+  // wherever a gas is advanced.
+  [[gnu::noinline]] StopReason advance(double until, const AdvanceLimits& limits = {}) {
     while (true) {
       if (statistics_.pair_collisions >= limits.max_pair_collisions) return StopReason::collision_limit;
       if (kinetic_energy_ <= limits.min_kinetic_energy) return StopReason::energy_limit;
@@ -750,5 +753,9 @@ class EventDrivenGas : public Stateful {
   std::string collapse_message_;
   std::function<void(const EventRecord&)> observer_;
 };
+
+// Instantiated once, in event_driven_gas.cpp.
+extern template class EventDrivenGas<2>;
+extern template class EventDrivenGas<3>;
 
 }  // namespace granflow::edmd
