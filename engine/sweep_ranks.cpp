@@ -265,6 +265,23 @@ int exit_code_of(const std::exception& error) {
   return 1;
 }
 
+// Runs `work` on rank 0 alone, reporting what it throws there, and gives
+// every rank rank 0's exit status.
+template <class Work>
+int on_rank_zero(int rank, Work&& work) {
+  int code = 0;
+  if (rank == 0) {
+    try {
+      code = work();
+    } catch (const std::exception& error) {
+      code = exit_code_of(error);
+      spdlog::error("{}", error.what());
+    }
+  }
+  MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  return code;
+}
+
 // One number that differs when two ranks read different sweeps (a file
 // edited between nodes' reads, or another version on another node).
 unsigned long long plan_fingerprint(const SweepPlan& plan) {
@@ -315,19 +332,7 @@ int run_sweep_on_ranks(const std::string& sweep_file, const std::string& output_
     return worst;
 
   // --collect runs nothing: rank 0 alone reads the files.
-  if (options.collect) {
-    code = 0;
-    if (rank == 0) {
-      try {
-        code = run_sweep(plan, options);
-      } catch (const std::exception& error) {
-        code = exit_code_of(error);
-        spdlog::error("{}", error.what());
-      }
-    }
-    MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    return code;
-  }
+  if (options.collect) return on_rank_zero(rank, [&] { return run_sweep(plan, options); });
 
   const int workers = workers_of_rank(options.workers);
   // A run's own parallel parts stay within the rank's share of the cores.
@@ -336,16 +341,10 @@ int run_sweep_on_ranks(const std::string& sweep_file, const std::string& output_
   MPI_Gather(&workers, 1, MPI_INT, all_workers.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
 
   SweepWork work;
-  code = 0;
-  if (rank == 0) {
-    try {
-      work = survey_sweep(plan, options);
-    } catch (const std::exception& error) {
-      code = exit_code_of(error);
-      spdlog::error("{}", error.what());
-    }
-  }
-  MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  code = on_rank_zero(rank, [&] {
+    work = survey_sweep(plan, options);
+    return 0;
+  });
   if (code != 0) return code;
 
   const auto level = spdlog::get_level();
