@@ -19,5 +19,6 @@ inline constexpr std::uint32_t srd_rotation = 10;    // each SRD cell's rotation
 inline constexpr std::uint32_t srd_initial = 11;     // initial positions and velocities of SRD particles
 inline constexpr std::uint32_t srd_ghosts = 12;      // the ghost particles of SRD cells cut by a wall, keyed by step and cell
 inline constexpr std::uint32_t dem_initial = 13;     // initial velocities of DEM spheres
+inline constexpr std::uint32_t compression_velocity = 14;  // velocities of the elastic runs between compression steps
 
 }  // namespace granflow::stream

@@ -8,27 +8,12 @@
 
 #include <cmath>
 
-#include "systems/edmd/event_driven_gas.hpp"
-#include "systems/edmd/gas_setup.hpp"
-#include "systems/edmd/kinetic_theory.hpp"
 #include "systems/initial/lattice_placement.hpp"
 #include "tests/scenario_schema.hpp"
+#include "tests/systems/initial/dense_fluid_checks.hpp"
 
 namespace granflow {
 namespace {
-
-template <int D>
-double closest_pair(const std::vector<Vec<D>>& x, const Box<D>& box) {
-  double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < x.size(); ++i)
-    for (std::size_t j = i + 1; j < x.size(); ++j) {
-      Vec<D> d = x[j] - x[i];
-      for (int a = 0; a < D; ++a)
-        if (box.periodic[a]) d[a] -= box.length[a] * std::round(d[a] / box.length[a]);
-      best = std::min(best, d.norm());
-    }
-  return best;
-}
 
 template <int D>
 void expect_valid_packing(const Box<D>& box, std::size_t count, double eta) {
@@ -43,7 +28,7 @@ void expect_valid_packing(const Box<D>& box, std::size_t count, double eta) {
       EXPECT_GE(p[a], margin);
       EXPECT_LE(p[a], box.length[a] - margin);
     }
-  EXPECT_GE(closest_pair<D>(x, box), 2.0 * radius * (1 - 1e-12)) << "eta " << eta;
+  EXPECT_GE(testing::closest_relative<D>(x, std::vector<double>(count, radius), box), 1 - 1e-12) << "eta " << eta;
 }
 
 TEST(LatticePlacement, HoldsDenseFluidsWithoutOverlap) {
@@ -76,41 +61,23 @@ TEST(LatticePlacement, RefusesWhatTheLatticeCannotHold) {
 TEST(LatticePlacement, MeltsIntoTheEquilibriumFluid) {
   constexpr std::size_t count = 2000;  // 1000 cubic cells of 4 sites: 2048 sites, 48 vacancies
   constexpr double eta = 0.45;
-  Config config(scenario_schema("haff_cooling"));
-  config.set("system.count", static_cast<std::int64_t>(count));
-  const double radius = theory::radius_for_packing_fraction<3>(static_cast<double>(count), eta, 1.0);
-  config.set("system.radius", radius);
-  config.set("initial.placement", std::string("lattice"));
-  config.set("initial.velocity", std::string("maxwell_boltzmann"));
-  config.set("initial.equilibration_collisions", 20.0);
+  const Config config = testing::dense_gas_config(count, eta, "lattice");
 
   Box<3> box;
   box.length = {1.0, 1.0, 1.0};
   box.periodic = {true, true, true};
-  const auto lattice = place_on_lattice<3>(box, count, radius, 1);
+  const auto lattice = place_on_lattice<3>(box, count, config.real("system.radius"), 1);
   EXPECT_NEAR(structure_factor<3>(lattice.positions, lattice.bragg_vector), static_cast<double>(count), 1e-6 * count);
 
   World world;
   edmd::build_gas<3>(world, config, 1);
   EXPECT_LT(structure_factor<3>(world.component<Position<3>>().values, lattice.bragg_vector), 20.0);
-
-  edmd::EventDrivenGas<3> gas(world, edmd::CollisionParameters{});
-  gas.start(0.0);
-  edmd::AdvanceLimits limits;
-  limits.max_pair_collisions = 20 * count / 2;
-  gas.advance(std::numeric_limits<double>::infinity(), limits);
-  const double temperature = 2.0 * gas.kinetic_energy() / (3.0 * static_cast<double>(count));
-  const double measured = 2.0 * static_cast<double>(gas.statistics().pair_collisions) /
-                          (static_cast<double>(count) * gas.time());
-  const double enskog = theory::collision_frequency<3>(static_cast<double>(count), 2 * radius, temperature,
-                                                             1.0, eta);
   // Carnahan-Starling's contact value is within 1 % of simulation at this
   // density; 2 * 10^4 collisions average the rate to well under 1 %, and
   // the N = 2000 box shifts it by less: 4 % separates the fluid from a
   // crystal or a state still carrying the lattice.
-  EXPECT_NEAR(measured / enskog, 1.0, 0.04) << "measured " << measured << " Enskog " << enskog;
+  EXPECT_NEAR(testing::collision_rate_over_enskog(world, eta), 1.0, 0.04);
 }
-
 
 TEST(LatticePlacement, RefusesACrystalThatDoesNotMelt) {
   // Above 0.545 the hard-sphere crystal is the stable phase: it never melts.
