@@ -34,6 +34,7 @@
 #include "systems/edmd/elastic_preparation.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 #include "systems/initial/initial_velocities.hpp"
+#include "systems/initial/placement_grid.hpp"
 #include "systems/initial/random_placement.hpp"
 
 namespace granflow {
@@ -55,25 +56,9 @@ template <int D>
 int push_apart(const Box<D>& box, const std::vector<double>& radius, std::vector<Vec<D>>& x, int max_sweeps) {
   constexpr double separation = 1e-3;
   const std::size_t count = x.size();
-  const double reach = 2.0 * *std::max_element(radius.begin(), radius.end());
-  std::array<int, D> cells{};
-  std::size_t total = 1;
-  bool all_pairs = false;
-  for (int a = 0; a < D; ++a) {
-    cells[a] = std::max(1, static_cast<int>(std::floor(box.length[a] / reach)));
-    // Fewer than three cells along an axis would meet a neighbour twice.
-    if (cells[a] < 3) all_pairs = true;
-    total *= static_cast<std::size_t>(cells[a]);
-  }
-  if (all_pairs) {
-    cells.fill(1);
-    total = 1;
-  }
-  const auto cell_along = [&](double position, int a) {
-    const auto c = static_cast<int>(std::floor(position / box.length[a] * cells[a]));
-    return std::clamp(c, 0, cells[a] - 1);
-  };
-  std::vector<std::int32_t> head(total), next(count);
+  PlacementRegion<D> everywhere;
+  everywhere.upper = box.length;
+  PlacementGrid<D> grid(box, everywhere, 2.0 * *std::max_element(radius.begin(), radius.end()), count);
   const auto keep_inside = [&](std::size_t i) {
     for (int a = 0; a < D; ++a) {
       if (box.periodic[a]) {
@@ -103,53 +88,17 @@ int push_apart(const Box<D>& box, const std::vector<double>& radius, std::vector
     keep_inside(j);
     return true;
   };
+  // Walls hold particles that reach into them before the first sweep.
+  for (std::size_t i = 0; i < count; ++i) keep_inside(i);
   for (int sweep = 1; sweep <= max_sweeps; ++sweep) {
-    std::fill(head.begin(), head.end(), -1);
-    for (std::size_t i = 0; i < count; ++i) {
-      keep_inside(i);
-      std::size_t c = 0, stride = 1;
-      for (int a = 0; a < D; ++a) {
-        c += stride * static_cast<std::size_t>(all_pairs ? 0 : cell_along(x[i][a], a));
-        stride *= static_cast<std::size_t>(cells[a]);
-      }
-      next[i] = head[c];
-      head[c] = static_cast<std::int32_t>(i);
-    }
+    grid.clear();
+    for (std::size_t i = 0; i < count; ++i) grid.insert(i, x[i]);
     bool moved = false;
-    std::array<int, D> c{};
-    for (std::size_t cell = 0; cell < total; ++cell) {
-      std::size_t rest = cell;
-      for (int a = 0; a < D; ++a) {
-        c[a] = static_cast<int>(rest % static_cast<std::size_t>(cells[a]));
-        rest /= static_cast<std::size_t>(cells[a]);
-      }
-      for (std::int32_t i = head[cell]; i >= 0; i = next[static_cast<std::size_t>(i)]) {
-        // Each pair once: partners later in the same cell, and every particle
-        // of the half of the neighbour cells that comes after this one.
-        for (std::int32_t j = next[static_cast<std::size_t>(i)]; j >= 0; j = next[static_cast<std::size_t>(j)])
-          moved |= push_pair(static_cast<std::size_t>(i), static_cast<std::size_t>(j));
-        if (all_pairs) continue;
-        constexpr int neighbours = D == 3 ? 27 : 9;
-        for (int n = neighbours / 2 + 1; n < neighbours; ++n) {
-          std::size_t other = 0, stride = 1;
-          bool inside = true;
-          int code = n;
-          for (int a = 0; a < D; ++a) {
-            int k = c[a] + code % 3 - 1;
-            code /= 3;
-            if (k < 0 || k >= cells[a]) {
-              if (!box.periodic[a]) inside = false;
-              k = (k + cells[a]) % cells[a];
-            }
-            other += stride * static_cast<std::size_t>(k);
-            stride *= static_cast<std::size_t>(cells[a]);
-          }
-          if (!inside) continue;
-          for (std::int32_t j = head[other]; j >= 0; j = next[static_cast<std::size_t>(j)])
-            moved |= push_pair(static_cast<std::size_t>(i), static_cast<std::size_t>(j));
-        }
-      }
-    }
+    for (std::size_t i = 0; i < count; ++i)
+      grid.any_near(x[i], [&](std::size_t j) {
+        if (j > i) moved |= push_pair(i, j);  // each pair once
+        return false;
+      });
     if (!moved) return sweep;
   }
   return -1;

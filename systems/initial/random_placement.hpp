@@ -23,18 +23,13 @@
 
 #include "engine/input_error.hpp"
 #include "engine/preparation.hpp"
+#include "systems/initial/placement_grid.hpp"
 
 namespace granflow {
 
 class PlacementError : public InputError {
  public:
   using InputError::InputError;
-};
-
-template <int D>
-struct PlacementRegion {
-  std::array<double, D> lower{};
-  std::array<double, D> upper{};
 };
 
 // Volume (area in 2D) of a sphere (disk) of radius r.
@@ -61,10 +56,9 @@ std::vector<Vec<D>> place_randomly(const Box<D>& box, const PlacementRegion<D>& 
   if (count == 0) return positions;
   const double max_radius = *std::max_element(radii.begin(), radii.end());
 
-  std::array<bool, D> wraps{};
+  const std::array<bool, D> wraps = wrapping_axes(box, region);
   double region_volume = 1.0;
   for (int a = 0; a < D; ++a) {
-    wraps[a] = box.periodic[a] && region.lower[a] <= 0.0 && region.upper[a] >= box.length[a];
     region_volume *= region.upper[a] - region.lower[a];
     if (!wraps[a] && region.upper[a] - region.lower[a] <= 2.0 * max_radius)
       throw PlacementError(fmt::format("placement region along axis {} ({} wide) is narrower than a particle "
@@ -80,62 +74,15 @@ std::vector<Vec<D>> place_randomly(const Box<D>& box, const PlacementRegion<D>& 
         "lower system.count or system.radius",
         count, fraction, random_sequential_jamming_fraction<D>(), D));
 
-  // Hash grid over the region, cells one largest diameter wide.
-  std::array<std::int64_t, D> cells{};
-  std::array<double, D> width{};
-  std::size_t total = 1;
-  for (int a = 0; a < D; ++a) {
-    const double extent = region.upper[a] - region.lower[a];
-    cells[a] = std::max<std::int64_t>(1, static_cast<std::int64_t>(extent / (2.0 * max_radius)));
-    while (total * static_cast<std::size_t>(cells[a]) > 4 * count + 64 && cells[a] > 1) cells[a] /= 2;
-    width[a] = extent / static_cast<double>(cells[a]);
-    total *= static_cast<std::size_t>(cells[a]);
-  }
-  std::vector<std::int64_t> head(total, -1), next(count, -1);
-  const auto coordinates = [&](const Vec<D>& x) {
-    std::array<std::int64_t, D> c{};
-    for (int a = 0; a < D; ++a)
-      c[a] = std::clamp<std::int64_t>(static_cast<std::int64_t>((x[a] - region.lower[a]) / width[a]), 0, cells[a] - 1);
-    return c;
-  };
-  const auto linear = [&](const std::array<std::int64_t, D>& c) {
-    std::size_t k = 0;
-    for (int a = D - 1; a >= 0; --a) k = k * static_cast<std::size_t>(cells[a]) + static_cast<std::size_t>(c[a]);
-    return k;
-  };
-  // Neighbour cells reach as far as the largest contact distance.
-  std::array<std::int64_t, D> reach{};
-  for (int a = 0; a < D; ++a) reach[a] = static_cast<std::int64_t>(std::ceil(2.0 * max_radius / width[a]));
-
+  PlacementGrid<D> grid(box, region, 2.0 * max_radius, count);
   const auto overlaps = [&](const Vec<D>& x, double r) {
-    const auto c = coordinates(x);
-    std::array<std::int64_t, D> o{};
-    for (int a = 0; a < D; ++a) o[a] = -reach[a];
-    while (true) {
-      std::array<std::int64_t, D> n{};
-      bool inside = true;
-      for (int a = 0; a < D; ++a) {
-        n[a] = c[a] + o[a];
-        if (n[a] < 0 || n[a] >= cells[a]) {
-          if (!wraps[a]) inside = false;
-          n[a] = ((n[a] % cells[a]) + cells[a]) % cells[a];
-        }
-      }
-      if (inside)
-        for (std::int64_t k = head[linear(n)]; k >= 0; k = next[static_cast<std::size_t>(k)]) {
-          Vec<D> dx = positions[static_cast<std::size_t>(k)] - x;
-          for (int a = 0; a < D; ++a)
-            if (wraps[a]) dx[a] -= box.length[a] * std::round(dx[a] / box.length[a]);
-          const double contact = r + radii[static_cast<std::size_t>(k)];
-          if (dx.squaredNorm() < contact * contact) return true;
-        }
-      int a = 0;
-      for (; a < D; ++a) {
-        if (++o[a] <= reach[a]) break;
-        o[a] = -reach[a];
-      }
-      if (a == D) return false;
-    }
+    return grid.any_near(x, [&](std::size_t k) {
+      Vec<D> dx = positions[k] - x;
+      for (int a = 0; a < D; ++a)
+        if (wraps[a]) dx[a] -= box.length[a] * std::round(dx[a] / box.length[a]);
+      const double contact = r + radii[k];
+      return dx.squaredNorm() < contact * contact;
+    });
   };
 
   // Near jamming the last particles take most of the attempts: report often.
@@ -155,9 +102,7 @@ std::vector<Vec<D>> place_randomly(const Box<D>& box, const PlacementRegion<D>& 
       }
       if (overlaps(x, radii[i])) continue;
       positions[i] = x;
-      const auto k = linear(coordinates(x));
-      next[i] = head[k];
-      head[k] = static_cast<std::int64_t>(i);
+      grid.insert(i, x);
       placed = true;
     }
     if (!placed)

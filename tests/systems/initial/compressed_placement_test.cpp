@@ -67,7 +67,7 @@ TEST(CompressedPlacement, RelaxesIntoTheEquilibriumFluidPastFreezing) {
   // Carnahan-Starling's contact value is within about 1.5 % of simulation at
   // 0.5, and 2 * 10^4 collisions average the rate to about 1 %: 3 %. The
   // packing straight from compression, relaxed by only the 20 collisions of
-  // equilibration, is still 3.8 % above (pairs left close collide more
+  // equilibration, is still 6 % above (pairs left close collide more
   // often); a crystal (fcc at 0.5) would be far below.
   EXPECT_NEAR(testing::collision_rate_over_enskog(world, eta), 1.0, 0.03);
 }
