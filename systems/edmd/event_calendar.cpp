@@ -18,18 +18,20 @@ EventCalendar::EventCalendar(std::size_t particle_count) {
 
 std::size_t EventCalendar::bytes_per_particle() const {
   const std::size_t count = std::max<std::size_t>(nodes_.size(), 1);
-  return sizeof(Node) + ((bucket_head_.size() + overflow_.capacity()) * sizeof(std::int32_t)) / count;
+  return sizeof(Node) + ((bucket_head_.size() + overflow_.size()) * sizeof(std::int32_t)) / count;
 }
 
 void EventCalendar::rebuild(double now, const std::vector<double>& times) {
   const std::size_t count = times.size();
   nodes_.assign(count, Node{std::numeric_limits<double>::infinity(), -1, nowhere});
   heap_.clear();
-  overflow_.clear();
+  overflow_.assign(count, 0);
+  overflow_size_ = 0;
   scheduled_ = 0;
   // Half a bucket head per particle keeps the calendar at ~22 bytes per particle.
   const std::size_t buckets = std::max<std::size_t>(count / 2, 64);
   bucket_head_.assign(buckets, -1);
+  bucket_count_ = static_cast<double>(buckets);
 
   double ahead = 0.0;
   std::size_t finite = 0;
@@ -45,14 +47,9 @@ void EventCalendar::rebuild(double now, const std::vector<double>& times) {
   inverse_width_ = 1.0 / width_;
   block_start_ = now;
   current_ = 0;
+  current_end_ = 1.0;
   loaded_in_block_ = 0;
   for (std::uint32_t i = 0; i < count; ++i) schedule(i, times[i]);
-}
-
-void EventCalendar::schedule(std::uint32_t i, double t) {
-  if (nodes_[i].where != nowhere) remove(i);
-  nodes_[i].time = t;
-  if (std::isfinite(t)) insert(i);
 }
 
 void EventCalendar::unschedule(std::uint32_t i) {
@@ -60,100 +57,11 @@ void EventCalendar::unschedule(std::uint32_t i) {
   nodes_[i].time = std::numeric_limits<double>::infinity();
 }
 
-void EventCalendar::insert(std::uint32_t i) {
-  ++scheduled_;
-  const double bucket = std::floor((nodes_[i].time - block_start_) * inverse_width_);
-  if (bucket <= static_cast<double>(current_)) {
-    heap_push(i);
-  } else if (bucket < static_cast<double>(bucket_head_.size())) {
-    const auto k = static_cast<std::int32_t>(bucket);
-    nodes_[i].where = k;
-    list_push(bucket_head_[static_cast<std::size_t>(k)], i);
-  } else {
-    nodes_[i].where = in_overflow;
-    nodes_[i].next = static_cast<std::int32_t>(overflow_.size());
-    overflow_.push_back(i);
-  }
-}
-
-void EventCalendar::remove(std::uint32_t i) {
-  --scheduled_;
-  const std::int32_t w = nodes_[i].where;
-  if (w == in_heap)
-    heap_erase(i);
-  else if (w == in_overflow)
-    overflow_erase(i);
-  else
-    list_erase(bucket_head_[static_cast<std::size_t>(w)], i);
-  nodes_[i].where = nowhere;
-}
-
-void EventCalendar::list_push(std::int32_t& head, std::uint32_t i) {
-  nodes_[i].next = head;
-  head = static_cast<std::int32_t>(i);
-}
-
-// Buckets hold a few events, so finding the predecessor by a walk is cheaper
-// than keeping back links.
-void EventCalendar::list_erase(std::int32_t& head, std::uint32_t i) {
-  std::int32_t* link = &head;
-  while (*link != static_cast<std::int32_t>(i)) link = &nodes_[static_cast<std::size_t>(*link)].next;
-  *link = nodes_[i].next;
-}
-
-void EventCalendar::overflow_erase(std::uint32_t i) {
-  const auto position = static_cast<std::size_t>(nodes_[i].next);
-  const std::uint32_t last = overflow_.back();
-  overflow_[position] = last;
-  nodes_[last].next = static_cast<std::int32_t>(position);
-  overflow_.pop_back();
-}
-
-void EventCalendar::heap_push(std::uint32_t i) {
-  nodes_[i].where = in_heap;
-  ++loaded_in_block_;
-  heap_.push_back(i);
-  heap_set(heap_.size() - 1, i);
-  sift_up(heap_.size() - 1);
-}
-
-void EventCalendar::heap_erase(std::uint32_t i) {
-  const auto position = static_cast<std::size_t>(nodes_[i].next);
-  const std::uint32_t last = heap_.back();
-  heap_.pop_back();
-  if (position == heap_.size()) return;
-  heap_set(position, last);
-  sift_up(position);
-  sift_down(static_cast<std::size_t>(nodes_[last].next));
-}
-
-void EventCalendar::sift_up(std::size_t position) {
-  const std::uint32_t item = heap_[position];
-  while (position > 0) {
-    const std::size_t parent = (position - 1) / 2;
-    if (!heap_less(item, heap_[parent])) break;
-    heap_set(position, heap_[parent]);
-    position = parent;
-  }
-  heap_set(position, item);
-}
-
-void EventCalendar::sift_down(std::size_t position) {
-  const std::uint32_t item = heap_[position];
-  const std::size_t count = heap_.size();
-  while (true) {
-    std::size_t child = 2 * position + 1;
-    if (child >= count) break;
-    if (child + 1 < count && heap_less(heap_[child + 1], heap_[child])) ++child;
-    if (!heap_less(heap_[child], item)) break;
-    heap_set(position, heap_[child]);
-    position = child;
-  }
-  heap_set(position, item);
-}
-
+// At the end of a block every event left is in the overflow. Those that fall
+// in the new block are filed in its buckets and the rest stay, compacted in
+// place: filing never writes beyond the entry being read.
 void EventCalendar::start_next_block() {
-  const double span = width_ * static_cast<double>(bucket_head_.size());
+  const double span = width_ * bucket_count_;
   const double block_end = block_start_ + span;
   // Retune: aim for a few events per bucket at the event rate just seen.
   if (loaded_in_block_ > 0) width_ = events_per_bucket * span / static_cast<double>(loaded_in_block_);
@@ -161,28 +69,24 @@ void EventCalendar::start_next_block() {
   inverse_width_ = 1.0 / width_;
   block_start_ = block_end;
   current_ = 0;
+  current_end_ = 1.0;
   loaded_in_block_ = 0;
 
-  std::vector<std::uint32_t> pending;
-  pending.swap(overflow_);
+  const std::size_t pending = overflow_size_;
   double earliest_pending = std::numeric_limits<double>::infinity();
-  for (std::uint32_t i : pending) earliest_pending = std::min(earliest_pending, nodes_[i].time);
+  for (std::size_t k = 0; k < pending; ++k) earliest_pending = std::min(earliest_pending, nodes_[overflow_[k]].time);
   // Skip empty stretches of time in one jump instead of block by block.
-  if (earliest_pending > block_start_ + width_ * static_cast<double>(bucket_head_.size()))
-    block_start_ = earliest_pending;
-  for (std::uint32_t i : pending) {
-    nodes_[i].where = nowhere;
-    --scheduled_;
-    insert(i);
-  }
-  overflow_.reserve(pending.capacity());
+  if (earliest_pending > block_start_ + width_ * bucket_count_) block_start_ = earliest_pending;
+  overflow_size_ = 0;
+  for (std::size_t k = 0; k < pending; ++k) file(overflow_[k]);
 }
 
-std::uint32_t EventCalendar::earliest() {
+std::uint32_t EventCalendar::earliest_in_later_buckets() {
   if (scheduled_ == 0) return none;
   while (heap_.empty()) {
     if (current_ + 1 < bucket_head_.size()) {
       ++current_;
+      current_end_ += 1.0;
       std::int32_t k = std::exchange(bucket_head_[current_], -1);
       while (k >= 0) {
         const auto i = static_cast<std::uint32_t>(k);

@@ -30,7 +30,7 @@ class EventCalendar {
   void unschedule(std::uint32_t i);
 
   // Particle of the earliest event (ties: lowest index), or none.
-  std::uint32_t earliest();
+  std::uint32_t earliest() { return heap_.empty() ? earliest_in_later_buckets() : heap_.front(); }
   double time_of(std::uint32_t i) const { return nodes_[i].time; }
   std::size_t size() const { return scheduled_; }
 
@@ -42,7 +42,9 @@ class EventCalendar {
   static constexpr std::int32_t in_overflow = -3;
   static constexpr std::int32_t nowhere = -1;
 
+  std::uint32_t earliest_in_later_buckets();
   void insert(std::uint32_t i);
+  void file(std::uint32_t i);
   void remove(std::uint32_t i);
   void list_push(std::int32_t& head, std::uint32_t i);
   void list_erase(std::int32_t& head, std::uint32_t i);
@@ -52,8 +54,8 @@ class EventCalendar {
   }
   void heap_push(std::uint32_t i);
   void heap_erase(std::uint32_t i);
-  void sift_up(std::size_t position);
-  void sift_down(std::size_t position);
+  void sift_up(std::size_t position, std::uint32_t item);
+  void sift_down(std::size_t position, std::uint32_t item);
   void heap_set(std::size_t position, std::uint32_t i) {
     heap_[position] = i;
     nodes_[i].next = static_cast<std::int32_t>(position);
@@ -68,15 +70,133 @@ class EventCalendar {
   };
   std::vector<Node> nodes_;
   std::vector<std::int32_t> bucket_head_;
-  std::vector<std::uint32_t> overflow_;  // unordered; a member's Node::next is its position here
+  // Unordered, its first overflow_size_ entries used; a member's Node::next is
+  // its position here. Room for every particle is kept, so that a new block
+  // can sort the overflow into buckets in place.
+  std::vector<std::uint32_t> overflow_;
+  std::size_t overflow_size_ = 0;
   std::vector<std::uint32_t> heap_;
 
   double block_start_ = 0.0;
   double width_ = 1.0;
   double inverse_width_ = 1.0;
   std::size_t current_ = 0;
+  // An event whose offset from the block start, in bucket widths, is below
+  // current_end_ (current_ + 1) belongs in the heap, below bucket_count_ in a
+  // bucket, else in the overflow; kept as doubles so that filing an event
+  // compares its offset without rounding it or converting indices.
+  double current_end_ = 1.0;
+  double bucket_count_ = 1.0;
   std::size_t scheduled_ = 0;
   std::uint64_t loaded_in_block_ = 0;  // events that passed through the heap this block
 };
+
+// What every event does is defined here, so that the event loop inlines it.
+
+inline void EventCalendar::schedule(std::uint32_t i, double t) {
+  if (nodes_[i].where != nowhere) remove(i);
+  nodes_[i].time = t;
+  if (t < std::numeric_limits<double>::infinity()) insert(i);
+}
+
+inline void EventCalendar::insert(std::uint32_t i) {
+  ++scheduled_;
+  file(i);
+}
+
+// floor(offset) <= current_ exactly when offset < current_ + 1, and below
+// bucket_count_ the truncated offset is its floor: the same buckets as
+// rounding the offset, without doing it.
+inline void EventCalendar::file(std::uint32_t i) {
+  const double offset = (nodes_[i].time - block_start_) * inverse_width_;
+  if (offset < current_end_) {
+    heap_push(i);
+  } else if (offset < bucket_count_) {
+    const auto k = static_cast<std::int32_t>(offset);
+    nodes_[i].where = k;
+    list_push(bucket_head_[static_cast<std::size_t>(k)], i);
+  } else {
+    nodes_[i].where = in_overflow;
+    nodes_[i].next = static_cast<std::int32_t>(overflow_size_);
+    overflow_[overflow_size_++] = i;
+  }
+}
+
+inline void EventCalendar::remove(std::uint32_t i) {
+  --scheduled_;
+  const std::int32_t w = nodes_[i].where;
+  if (w == in_heap)
+    heap_erase(i);
+  else if (w == in_overflow)
+    overflow_erase(i);
+  else
+    list_erase(bucket_head_[static_cast<std::size_t>(w)], i);
+  nodes_[i].where = nowhere;
+}
+
+inline void EventCalendar::list_push(std::int32_t& head, std::uint32_t i) {
+  nodes_[i].next = head;
+  head = static_cast<std::int32_t>(i);
+}
+
+// Buckets hold a few events, so finding the predecessor by a walk is cheaper
+// than keeping back links.
+inline void EventCalendar::list_erase(std::int32_t& head, std::uint32_t i) {
+  std::int32_t* link = &head;
+  while (*link != static_cast<std::int32_t>(i)) link = &nodes_[static_cast<std::size_t>(*link)].next;
+  *link = nodes_[i].next;
+}
+
+inline void EventCalendar::overflow_erase(std::uint32_t i) {
+  const auto position = static_cast<std::size_t>(nodes_[i].next);
+  const std::uint32_t last = overflow_[--overflow_size_];
+  overflow_[position] = last;
+  nodes_[last].next = static_cast<std::int32_t>(position);
+}
+
+inline void EventCalendar::heap_push(std::uint32_t i) {
+  nodes_[i].where = in_heap;
+  ++loaded_in_block_;
+  heap_.push_back(i);
+  sift_up(heap_.size() - 1, i);
+}
+
+// The hole left at `position` is filled by the last item, which moves up or
+// down from there (most often the earliest event leaves and it moves down).
+inline void EventCalendar::heap_erase(std::uint32_t i) {
+  const auto position = static_cast<std::size_t>(nodes_[i].next);
+  const std::uint32_t last = heap_.back();
+  heap_.pop_back();
+  if (position == heap_.size()) return;
+  if (position > 0 && heap_less(last, heap_[(position - 1) / 2]))
+    sift_up(position, last);
+  else
+    sift_down(position, last);
+}
+
+// Moves `item` from the hole at `position` towards the root to its place.
+inline void EventCalendar::sift_up(std::size_t position, std::uint32_t item) {
+  while (position > 0) {
+    const std::size_t parent = (position - 1) / 2;
+    if (!heap_less(item, heap_[parent])) break;
+    heap_set(position, heap_[parent]);
+    position = parent;
+  }
+  heap_set(position, item);
+}
+
+// Moves `item` from the hole at `position` towards the leaves to its place.
+inline void EventCalendar::sift_down(std::size_t position, std::uint32_t item) {
+  const std::size_t count = heap_.size();
+  while (true) {
+    std::size_t child = 2 * position + 1;
+    if (child >= count) break;
+    if (child + 1 < count && heap_less(heap_[child + 1], heap_[child])) ++child;
+    if (!heap_less(heap_[child], item)) break;
+    heap_set(position, heap_[child]);
+    position = child;
+  }
+  heap_set(position, item);
+}
 
 }  // namespace granflow::edmd
