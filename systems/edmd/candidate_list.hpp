@@ -1,7 +1,9 @@
 #pragma once
-// The candidate partners of one prediction: the indices of their motion
-// records, in the order the cell lists were walked, and for each the periodic
-// image it is seen through (an offset into the grid's table of shifts). The
+// The candidate partners of one prediction: where their motion records lie
+// (offsets in doubles from the first record, so that the contact test loads a
+// record with one addressing mode, no arithmetic), in the order the cell lists
+// were walked, and for each the periodic image it is seen through (an offset
+// into the grid's table of shifts). The
 // contact test loads the records itself, with gathers where the machine has
 // them, so a candidate costs the walk two stores instead of a copy of its
 // record, and a candidate that both particles of a collision see is listed
@@ -27,12 +29,21 @@ class CandidateList {
 
   CandidateList() { grow(); }
 
+  // Record offsets are 32-bit: a gas may hold up to this many particles.
+  template <int D>
+  static constexpr std::size_t max_records = (std::size_t{1} << 32) / MotionRecord<D>::stride;
+
   std::size_t size() const { return size_; }
-  const std::int32_t* indices() const { return index_.data(); }
+  // Each candidate's record offset, in doubles.
+  const std::uint32_t* record_offsets() const { return offset_.data(); }
   // Offsets, in doubles, of each candidate's periodic shift in the shift
   // table, where the list was written with shifts.
   const std::int32_t* shift_offsets() const { return shift_.data(); }
-  std::uint32_t index(std::size_t c) const { return static_cast<std::uint32_t>(index_[c]); }
+  // Particle index of candidate c, in a list of records of D dimensions.
+  template <int D>
+  std::uint32_t index(std::size_t c) const {
+    return offset_[c] / static_cast<std::uint32_t>(MotionRecord<D>::stride);
+  }
   // Room for one contact time per candidate, the last group whole.
   double* times() { return times_.data(); }
 
@@ -46,7 +57,7 @@ class CandidateList {
   class Writer {
    public:
     Writer(CandidateList& list, const MotionRecord<D>* records, std::int32_t sentinel, std::int32_t unshifted)
-        : list_(list), records_(records), sentinel_(sentinel), unshifted_(unshifted) {
+        : list_(list), records_(reinterpret_cast<const double*>(records)), sentinel_(sentinel), unshifted_(unshifted) {
       point();
     }
 
@@ -56,8 +67,9 @@ class CandidateList {
     [[gnu::always_inline]] void append_shifted_list(std::int32_t head, Next next, std::int32_t shift_offset) {
       for (std::int32_t k = head; k >= 0; k = next(static_cast<std::uint32_t>(k))) {
         reserve_one();
-        __builtin_prefetch(&records_[k]);
-        index_[size_] = k;
+        const std::uint32_t offset = record_offset(k);
+        __builtin_prefetch(records_ + offset);
+        offset_[size_] = offset;
         shift_[size_] = shift_offset;
         ++size_;
       }
@@ -68,8 +80,9 @@ class CandidateList {
     [[gnu::always_inline]] void append_list(std::int32_t head, Next next) {
       for (std::int32_t k = head; k >= 0; k = next(static_cast<std::uint32_t>(k))) {
         reserve_one();
-        __builtin_prefetch(&records_[k]);
-        index_[size_] = k;
+        const std::uint32_t offset = record_offset(k);
+        __builtin_prefetch(records_ + offset);
+        offset_[size_] = offset;
         ++size_;
       }
     }
@@ -79,13 +92,17 @@ class CandidateList {
     void close() {
       // capacity_ is a multiple of the group, so the last group fits.
       for (std::size_t c = size_; c % group != 0; ++c) {
-        index_[c] = sentinel_;
+        offset_[c] = record_offset(sentinel_);
         shift_[c] = unshifted_;
       }
       list_.size_ = size_;
     }
 
    private:
+    static std::uint32_t record_offset(std::int32_t k) {
+      return static_cast<std::uint32_t>(k) * static_cast<std::uint32_t>(MotionRecord<D>::stride);
+    }
+
     [[gnu::always_inline]] void reserve_one() {
       if (size_ == capacity_) [[unlikely]] {
         list_.size_ = size_;
@@ -95,18 +112,18 @@ class CandidateList {
     }
 
     void point() {
-      index_ = list_.index_.data();
+      offset_ = list_.offset_.data();
       shift_ = list_.shift_.data();
       capacity_ = list_.capacity_;
     }
 
     CandidateList& list_;
-    const MotionRecord<D>* records_;
+    const double* records_;  // the motion records as one flat array
     std::int32_t sentinel_;
     std::int32_t unshifted_;
     std::size_t size_ = 0;
     std::size_t capacity_ = 0;
-    std::int32_t* index_ = nullptr;
+    std::uint32_t* offset_ = nullptr;
     std::int32_t* shift_ = nullptr;
   };
 
@@ -123,12 +140,12 @@ class CandidateList {
   [[gnu::noinline]] void grow() {
     // In whole groups, so that close() always has the rest of the last one.
     capacity_ = std::max<std::size_t>(16 * group, 2 * capacity_);
-    index_.resize(capacity_);
+    offset_.resize(capacity_);
     shift_.resize(capacity_);
     times_.resize(capacity_);
   }
 
-  std::vector<std::int32_t> index_;
+  std::vector<std::uint32_t> offset_;
   std::vector<std::int32_t> shift_;
   std::vector<double> times_;
   std::size_t size_ = 0;

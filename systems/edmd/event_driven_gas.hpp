@@ -425,6 +425,9 @@ class EventDrivenGas : public Stateful {
   }
 
   void bind() {
+    if (world_.size() >= CandidateList::max_records<D>)
+      throw std::invalid_argument(fmt::format("an event-driven gas holds fewer than {} particles, not {}",
+                                              CandidateList::max_records<D>, world_.size()));
     mass_ = world_.template component<Mass>().data();
     count_ = world_.template component<CollisionCount>().data();
     last_collision_ =
@@ -583,8 +586,8 @@ class EventDrivenGas : public Stateful {
     writer.close();
     const auto for_i = earliest_among(0, shared_end, i, images);
     const auto for_j = earliest_among(shared_begin, candidates_.size(), j, images);
-    calendar_.schedule(i, conclude(i, best_i, kind_i, for_i.time, candidates_.index(for_i.position)));
-    calendar_.schedule(j, conclude(j, best_j, kind_j, for_j.time, candidates_.index(for_j.position)));
+    calendar_.schedule(i, conclude(i, best_i, kind_i, for_i.time, candidates_.template index<D>(for_i.position)));
+    calendar_.schedule(j, conclude(j, best_j, kind_j, for_j.time, candidates_.template index<D>(for_j.position)));
   }
 
   // Finds particle i's earliest event; i must be at time now_.
@@ -630,7 +633,7 @@ class EventDrivenGas : public Stateful {
     const auto earliest = earliest_among(0, candidates_.size(), i, images);
     if (earliest.time < best_collision) {
       best_collision = earliest.time;
-      partner = candidates_.index(earliest.position);
+      partner = candidates_.template index<D>(earliest.position);
     }
     return conclude(i, best, kind, best_collision, partner);
   }

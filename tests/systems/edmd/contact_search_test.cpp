@@ -114,7 +114,7 @@ void check_against_reference(unsigned seed, bool images) {
       EXPECT_EQ(found.time, earliest);
       if (earliest < never) {
         EXPECT_EQ(found.position, position);
-        EXPECT_EQ(list.index(found.position), static_cast<std::uint32_t>(order[position]));
+        EXPECT_EQ(list.index<D>(found.position), static_cast<std::uint32_t>(order[position]));
       }
     }
   }
@@ -148,7 +148,7 @@ TEST(ContactSearch, OverlappingApproachingPairCollidesAtOnceAndRecedingPairNever
   writer.close();
   const auto found = earliest_contact<3>(list, 0, 2, scene.records.data(), nullptr, 0, scene.self, scene.now);
   EXPECT_EQ(found.time, scene.now);
-  EXPECT_EQ(list.index(found.position), 0u);
+  EXPECT_EQ(list.index<3>(found.position), 0u);
   EXPECT_EQ(list.times()[0], never);
 }
 
