@@ -15,12 +15,12 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <span>
 #include <stdexcept>
 #include <vector>
 
 #include "components/box.hpp"
 #include "components/vector.hpp"
+#include "systems/edmd/occupied_cells.hpp"
 
 namespace granflow::edmd {
 
@@ -28,6 +28,10 @@ template <int D>
 class CellGrid {
  public:
   static constexpr int neighbour_count = D == 2 ? 9 : 27;
+  // Offset lists are padded with zeros to whole groups for occupied_cells().
+  static constexpr std::size_t padded(int count) {
+    return static_cast<std::size_t>((count + occupancy_group - 1) / occupancy_group * occupancy_group);
+  }
   // Shift slot of a neighbour on the same side of every periodic face.
   static constexpr std::uint8_t unshifted = (neighbour_count - 1) / 2;
   static constexpr std::int32_t unshifted_offset = D * unshifted;
@@ -112,9 +116,12 @@ class CellGrid {
   }
   std::uint32_t cell_of(std::uint32_t i) const { return member_[i].cell; }
   std::int32_t head(std::uint32_t cell) const { return head_[cell]; }
+  const std::int32_t* heads() const { return head_.data(); }
   void prefetch_cell(std::uint32_t cell) const { __builtin_prefetch(&head_[cell]); }
   std::int32_t next(std::uint32_t i) const { return member_[i].next; }
   std::int32_t neighbour_offset(int n) const { return neighbour_offset_[static_cast<std::size_t>(n)]; }
+  // All neighbour_count of them, padded.
+  const std::int32_t* neighbour_offsets() const { return neighbour_offset_.data(); }
   // Where a particle listed in `cell` is seen from the box's neighbouring
   // cells: the D components at this offset of shift_table().
   std::int32_t shift_offset(std::uint32_t cell) const { return D * (shift_slot_[cell] & ~imaged_bit); }
@@ -124,17 +131,17 @@ class CellGrid {
   bool sees_images(std::uint32_t cell) const { return (shift_slot_[cell] & imaged_bit) != 0; }
 
   // The cells to scan after a crossing through `face` (2 axis + upward):
-  // those that have just become adjacent, as offsets from the new cell.
-  std::span<const std::int32_t> entered_cells(int face) const {
-    return {entered_[static_cast<std::size_t>(face)].data(), neighbour_count / 3};
-  }
+  // those that have just become adjacent, as offsets from the new cell
+  // (entered_count of them, padded).
+  static constexpr int entered_count = neighbour_count / 3;
+  const std::int32_t* entered_cells(int face) const { return entered_[static_cast<std::size_t>(face)].data(); }
 
   // The neighbourhoods of two adjacent cells, the first at offset `delta`
   // (each component -1, 0 or 1) from the second, as offsets from the first:
   // the cells only the first sees, then those both see, then those only the
   // second sees. Empty (no cells) when the two are not adjacent.
   struct PairWalk {
-    std::array<std::int32_t, 2 * neighbour_count> offsets;
+    std::array<std::int32_t, padded(2 * neighbour_count)> offsets;
     int first_only;  // cells [0, first_only) belong to the first only
     int shared_end;  // cells [first_only, shared_end) to both, [shared_end, total) to the second
     int total;
@@ -230,6 +237,7 @@ class CellGrid {
     no_walk_ = PairWalk{{}, 0, 0, 0};
     for (int d = 0; d < neighbour_count; ++d) {
       PairWalk& walk = walks_[static_cast<std::size_t>(d)];
+      walk.offsets.fill(0);
       const auto within = [&](int n, int sign) {
         bool inside = true;
         for (int a = 0; a < D; ++a) inside = inside && std::abs(digit(d, a) + sign * digit(n, a)) <= 1;
@@ -284,14 +292,14 @@ class CellGrid {
   std::array<std::int32_t, D> stride_{};  // of the grid with its halo
   std::array<bool, D> periodic_{};
   std::array<double, D> length_{};
-  std::array<std::int32_t, neighbour_count> neighbour_offset_{};
+  std::array<std::int32_t, padded(neighbour_count)> neighbour_offset_{};
   std::array<double, D * neighbour_count> shift_{};
   // Per cell of the grid with its halo: the slot of its shift, plus
   // imaged_bit on a cell inside the box on a periodic face (halo cells image
   // it, and it sees them).
   static constexpr std::uint8_t imaged_bit = 0x80;
   std::vector<std::uint8_t> shift_slot_;
-  std::array<std::array<std::int32_t, neighbour_count / 3>, 2 * D> entered_{};
+  std::array<std::array<std::int32_t, padded(neighbour_count / 3)>, 2 * D> entered_{};
   std::array<PairWalk, neighbour_count> walks_{};
   PairWalk no_walk_{};
   std::array<double, D> width_{};

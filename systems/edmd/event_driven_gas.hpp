@@ -53,6 +53,7 @@
 #include "systems/edmd/contact_search.hpp"
 #include "systems/edmd/event_calendar.hpp"
 #include "systems/edmd/motion_record.hpp"
+#include "systems/edmd/occupied_cells.hpp"
 
 namespace granflow::edmd {
 
@@ -524,15 +525,22 @@ class EventDrivenGas : public Stateful {
     return best;
   }
 
-  // Lists the particles of `cell` as candidates, with the periodic image
-  // they are seen through where the walk reaches halo cells (Shifted).
+  // Lists as candidates the particles of the cells at `offsets` from `here`
+  // whose bits are set in `occupied` (their heads in `heads`), in the order
+  // of the offsets, with the periodic image each cell is seen through where
+  // the walk reaches halo cells (Shifted).
   template <bool Shifted>
-  [[gnu::always_inline]] void gather(CandidateList::Writer<D>& writer, std::uint32_t cell) {
-    const std::int32_t head = grid_.head(cell);
-    if (head < 0) return;
+  [[gnu::always_inline]] void gather(CandidateList::Writer<D>& writer, std::uint32_t here, const std::int32_t* offsets,
+                                     std::uint64_t occupied, const std::int32_t* heads) {
     const auto next = [this](std::uint32_t k) { return grid_.next(k); };
-    if constexpr (Shifted) writer.append_shifted_list(head, next, grid_.shift_offset(cell));
-    else writer.append_list(head, next);
+    for (; occupied != 0; occupied &= occupied - 1) {
+      const auto k = static_cast<std::size_t>(__builtin_ctzll(occupied));
+      if constexpr (Shifted)
+        writer.append_shifted_list(heads[k], next,
+                                   grid_.shift_offset(static_cast<std::uint32_t>(static_cast<std::int32_t>(here) + offsets[k])));
+      else
+        writer.append_list(heads[k], next);
+    }
   }
 
   CandidateList::Writer<D> start_candidates() {
@@ -567,18 +575,19 @@ class EventDrivenGas : public Stateful {
     // i tests the cells only it sees and the shared ones, j the shared ones
     // and its own. Neither need be left out: the pair has just collided, so
     // it recedes, and a particle never approaches itself.
+    std::int32_t heads[CellGrid<D>::padded(2 * CellGrid<D>::neighbour_count)];
+    const std::int32_t* offsets = walk.offsets.data();
+    const std::uint64_t occupied = occupied_cells(grid_.heads(), here_i, offsets, walk.total, heads);
+    const auto below = [](int k) { return (std::uint64_t{1} << k) - 1; };
     auto writer = start_candidates();
-    const auto cell_at = [&](int u) {
-      return static_cast<std::uint32_t>(static_cast<std::int32_t>(here_i) + walk.offsets[static_cast<std::size_t>(u)]);
-    };
     std::size_t shared_begin = 0, shared_end = 0;
     const auto fill = [&](auto shifted) {
       constexpr bool with_shifts = decltype(shifted)::value;
-      for (int u = 0; u < walk.first_only; ++u) gather<with_shifts>(writer, cell_at(u));
+      gather<with_shifts>(writer, here_i, offsets, occupied & below(walk.first_only), heads);
       shared_begin = writer.size();
-      for (int u = walk.first_only; u < walk.shared_end; ++u) gather<with_shifts>(writer, cell_at(u));
+      gather<with_shifts>(writer, here_i, offsets, occupied & below(walk.shared_end) & ~below(walk.first_only), heads);
       shared_end = writer.size();
-      for (int u = walk.shared_end; u < walk.total; ++u) gather<with_shifts>(writer, cell_at(u));
+      gather<with_shifts>(writer, here_i, offsets, occupied & ~below(walk.shared_end), heads);
     };
     const bool images = grid_.sees_images(here_i) || grid_.sees_images(grid_.cell_of(j));
     if (images) fill(std::true_type{});
@@ -613,21 +622,15 @@ class EventDrivenGas : public Stateful {
       }
     }
     boundary_event(i, cell, best, kind);
+    const std::int32_t* offsets = entered_face >= 0 ? grid_.entered_cells(entered_face) : grid_.neighbour_offsets();
+    std::int32_t heads[CellGrid<D>::padded(CellGrid<D>::neighbour_count)];
+    const std::uint64_t occupied = occupied_cells(
+        grid_.heads(), here, offsets, entered_face >= 0 ? CellGrid<D>::entered_count : CellGrid<D>::neighbour_count,
+        heads);
     auto writer = start_candidates();
-    const auto fill = [&](auto shifted) {
-      constexpr bool with_shifts = decltype(shifted)::value;
-      if (entered_face >= 0) {
-        for (const std::int32_t offset : grid_.entered_cells(entered_face))
-          gather<with_shifts>(writer, static_cast<std::uint32_t>(static_cast<std::int32_t>(here) + offset));
-      } else {
-        for (int n = 0; n < CellGrid<D>::neighbour_count; ++n)
-          gather<with_shifts>(writer,
-                              static_cast<std::uint32_t>(static_cast<std::int32_t>(here) + grid_.neighbour_offset(n)));
-      }
-    };
     const bool images = grid_.sees_images(here);
-    if (images) fill(std::true_type{});
-    else fill(std::false_type{});
+    if (images) gather<true>(writer, here, offsets, occupied, heads);
+    else gather<false>(writer, here, offsets, occupied, heads);
     writer.close();
     // i itself need not be left out: a particle never approaches itself.
     const auto earliest = earliest_among(0, candidates_.size(), i, images);
