@@ -117,10 +117,8 @@ class CellGrid {
   std::uint32_t cell_of(std::uint32_t i) const { return member_[i].cell; }
   std::int32_t head(std::uint32_t cell) const { return head_[cell]; }
   const std::int32_t* heads() const { return head_.data(); }
-  void prefetch_cell(std::uint32_t cell) const { __builtin_prefetch(&head_[cell]); }
   std::int32_t next(std::uint32_t i) const { return member_[i].next; }
-  std::int32_t neighbour_offset(int n) const { return neighbour_offset_[static_cast<std::size_t>(n)]; }
-  // All neighbour_count of them, padded.
+  // The offsets of the neighbour_count cells around a cell (itself included), padded.
   const std::int32_t* neighbour_offsets() const { return neighbour_offset_.data(); }
   // Where a particle listed in `cell` is seen from the box's neighbouring
   // cells: the D components at this offset of shift_table().
