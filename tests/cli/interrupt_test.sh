@@ -50,7 +50,7 @@ PY
 }
 
 DELAY=1.5 check haff haff_cooling.toml "kinetic_energy temperature collisions_per_particle" \
-  --set system.count=30000 --set system.radius=0.008 --set run.t_stop=40 --set initial.equilibration_collisions=5
+  --set system.count=60000 --set system.radius=0.0064 --set run.t_stop=40 --set initial.equilibration_collisions=5
 DELAY=1.5 check brownian brownian_edmd.toml "msd msd_stderr time_averaged_msd ergodicity_breaking" \
   --set run.runs=4 --set run.t_stop=300 --set system.count=500 --set system.radius=0.03
 DELAY=1.5 check langevin langevin_msd.toml "msd time_averaged_msd ergodicity_breaking" \
