@@ -3,9 +3,8 @@
 // (offsets in doubles from the first record, so that the contact test loads a
 // record with one addressing mode, no arithmetic), in the order the cell lists
 // were walked, and for each the periodic image it is seen through (an offset
-// into the grid's table of shifts). The
-// contact test loads the records itself, with gathers where the machine has
-// them, so a candidate costs the walk two stores instead of a copy of its
+// into the grid's table of shifts). The contact test loads the records
+// itself, so a candidate costs the walk two stores instead of a copy of its
 // record, and a candidate that both particles of a collision see is listed
 // once and tested by both (each over its own range).
 

@@ -18,12 +18,12 @@ namespace {
 // contact_time() of collision_rule.hpp with its three early returns turned
 // into selections (the same values), so that the test has no branch; lanes
 // whose value is discarded may divide by zero or take the root of a negative
-// discriminant. Sums start from their first term, not from zero (which
-// would only turn a -0 into +0, and b = -0 is rejected either way). A candidate's position is
-// moved to `now` and shifted to its image by the same operations in the same
-// order in both versions (x + v (now - t), then the shift), and without
-// contracted multiply-adds, so the times are bit for bit the same whatever
-// the instruction set.
+// discriminant. Sums start from their first term, not from zero (which would
+// only turn a -0 into +0, and b = -0 is rejected either way). A candidate's
+// position is moved to `now` and shifted to its image by the same operations
+// in the same order in both versions (x + v (now - t), then the shift), and
+// without contracted multiply-adds, so the times are bit for bit the same
+// whatever the instruction set.
 #if !defined(__AVX2__)
 template <int D>
 double scalar_contact(const MotionRecord<D>& record, const double* shift, const double* xi, const double* vi,

@@ -107,8 +107,8 @@ int push_apart(const Box<D>& box, const std::vector<double>& radius, std::vector
 }  // namespace compression_detail
 
 // Centres for particles of `radius` filling the whole box, compressed as
-// described above from random sequential addition at 0.8 of its jamming
-// fraction.
+// described above from random sequential addition at 0.6 of its jamming
+// fraction (or at the requested packing fraction, if that is lower).
 template <int D>
 std::vector<Vec<D>> place_compressed(const Box<D>& box, const std::vector<double>& radius, std::uint64_t seed,
                                      const Preparation& preparation = {}) {
