@@ -20,6 +20,7 @@
 
 #include "components/box.hpp"
 #include "components/vector.hpp"
+#include "engine/page_release.hpp"
 #include "systems/edmd/occupied_cells.hpp"
 
 namespace granflow::edmd {
@@ -105,6 +106,12 @@ class CellGrid {
 
   // Empties every cell, keeping the geometry.
   void clear() { std::fill(head_.begin(), head_.end(), -1); }
+  // Releases the memory of the cell lists (see release_pages()); only
+  // clear() and insertions may follow.
+  void release_lists() const {
+    release_pages(head_);
+    release_pages(member_);
+  }
 
   std::int32_t count(int axis) const { return count_[axis]; }
   double width(int axis) const { return width_[axis]; }

@@ -1,5 +1,7 @@
 #include "systems/edmd/event_calendar.hpp"
 
+#include "engine/page_release.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -50,6 +52,12 @@ void EventCalendar::rebuild(double now, const std::vector<double>& times) {
   current_end_ = 1.0;
   loaded_in_block_ = 0;
   for (std::uint32_t i = 0; i < count; ++i) schedule(i, times[i]);
+}
+
+void EventCalendar::release_events() const {
+  release_pages(nodes_);
+  release_pages(overflow_);
+  release_pages(bucket_head_);
 }
 
 void EventCalendar::unschedule(std::uint32_t i) {

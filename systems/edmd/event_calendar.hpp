@@ -34,6 +34,10 @@ class EventCalendar {
   double time_of(std::uint32_t i) const { return nodes_[i].time; }
   std::size_t size() const { return scheduled_; }
 
+  // Releases the memory of every event (see release_pages()); only
+  // rebuild() may follow.
+  void release_events() const;
+
   double bucket_width() const { return width_; }
   std::size_t bytes_per_particle() const;
 

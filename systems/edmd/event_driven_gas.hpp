@@ -8,7 +8,9 @@
 //    only the particles in an event are advanced (Marin, Risso & Cordero 1993);
 //  * what a prediction reads of a neighbour (position, velocity, local time,
 //    radius) is packed in one 64-byte record, one cache line per neighbour;
-//    the World's Position and Velocity are written back at synchronize();
+//    the records and the World's Position and Velocity take turns to hold
+//    the particles' motion (the records while events run, the World from
+//    synchronize() on), and are never both resident in memory;
 //  * a cell list with cell-crossing events, so a prediction looks only at the
 //    3^D surrounding cells, through periodic images where the box is periodic;
 //  * one scheduled event per particle, its earliest; a collision stored
@@ -44,6 +46,7 @@
 #include "components/radius.hpp"
 #include "components/velocity.hpp"
 #include "engine/config.hpp"
+#include "engine/page_release.hpp"
 #include "engine/state_map.hpp"
 #include "engine/world.hpp"
 #include "systems/edmd/candidate_list.hpp"
@@ -146,8 +149,12 @@ class EventDrivenGas : public Stateful {
     }
   }
 
-  // Prepares cells and events with every particle at time `now`.
+  // Prepares cells and events with every particle at time `now`; the World
+  // holds the particles' motion afterwards, as it did before.
   void start(double now) {
+    // What the set-up freed (a preparation's gas, placement grids) goes
+    // back to the system before this gas's arrays are laid out.
+    return_freed_memory();
     const auto& box = world_.template resource<Box<D>>();
     const std::size_t count = world_.size();
     auto& radius = world_.template component<Radius>();
@@ -158,17 +165,19 @@ class EventDrivenGas : public Stateful {
             "box length {} along axis {} must exceed two particle diameters ({})", box.length[a], a, 4 * max_radius));
     grid_.reset(box, 2.0 * max_radius, count);
     rebuild(now);
+    publish();
     collapse_.reset(count, now, kinetic_energy_);
     next_resort_ = statistics_.pair_collisions + resort_interval();
   }
 
   // Processes events up to time `until` (inclusive) or until a limit is hit.
-  // Particles are left at their own local times; call synchronize() before
-  // reading positions.
+  // Particles are left at their own local times, and the World's Position
+  // and Velocity are garbage until synchronize() is called.
   // Kept out of line, so that the event loop and everything it inlines is
   // the code of event_driven_gas.cpp, built for the kernels' instruction set,
   // wherever a gas is advanced.
   [[gnu::noinline]] StopReason advance(double until, const AdvanceLimits& limits = {}) {
+    if (!records_hold_motion_) take_back();
     while (true) {
       if (statistics_.pair_collisions >= limits.max_pair_collisions) return StopReason::collision_limit;
       if (kinetic_energy_ <= limits.min_kinetic_energy) return StopReason::energy_limit;
@@ -193,21 +202,24 @@ class EventDrivenGas : public Stateful {
     }
   }
 
-  // Moves every particle to time t >= time of the last event and publishes
+  // Moves every particle to time t >= time of the last event and hands
   // positions and velocities to the World.
   void synchronize(double t) {
+    const double from = now_;
     now_ = std::max(now_, t);
-    auto& position = world_.template component<Position<D>>();
-    auto& velocity = world_.template component<Velocity<D>>();
-    for (std::size_t i = 0; i < world_.size(); ++i) {
-      advance_particle(static_cast<std::uint32_t>(i));
-      position[i] = hot_[i].x;
-      velocity[i] = hot_[i].v;
+    if (records_hold_motion_) {
+      publish();
+      return;
     }
-    kinetic_energy_ = measure_kinetic_energy();
+    // Synchronised before, at `from`: the same motion the records would get.
+    if (now_ == from) return;
+    auto& position = world_.template component<Position<D>>();
+    const auto& velocity = world_.template component<Velocity<D>>();
+    for (std::size_t i = 0; i < world_.size(); ++i) position[i] += velocity[i] * (now_ - from);
   }
 
-  // Current velocity of the particle at storage index i (valid between events).
+  // Current velocity of the particle at storage index i, for an event
+  // observer (valid between events, inside advance()).
   const Vec<D>& velocity(std::size_t i) const { return hot_[i].v; }
 
   double time() const { return now_; }
@@ -232,10 +244,11 @@ class EventDrivenGas : public Stateful {
     auto& cell = out["cell"];
     auto& event = out["event_time"];
     for (std::size_t i = 0; i < n; ++i) {
-      for (int a = 0; a < D; ++a) hot.push_back(hot_[i].x[a]);
-      for (int a = 0; a < D; ++a) hot.push_back(hot_[i].v[a]);
-      hot.push_back(hot_[i].t);
-      hot.push_back(hot_[i].r);
+      const MotionRecord<D> record = motion_of(i);
+      for (int a = 0; a < D; ++a) hot.push_back(record.x[a]);
+      for (int a = 0; a < D; ++a) hot.push_back(record.v[a]);
+      hot.push_back(record.t);
+      hot.push_back(record.r);
       plan.insert(plan.end(), {plan_[i].collision_time, static_cast<double>(plan_[i].partner),
                                static_cast<double>(plan_[i].partner_count), static_cast<double>(event_kind_[i])});
       cell.push_back(static_cast<double>(grid_.serial(grid_.cell_of(static_cast<std::uint32_t>(i)))));
@@ -269,7 +282,6 @@ class EventDrivenGas : public Stateful {
     const auto& radius = world_.template component<Radius>();
     const double max_radius = n ? *std::max_element(radius.values.begin(), radius.values.end()) : 0.0;
     grid_.reset(world_.template resource<Box<D>>(), 2.0 * max_radius, n);
-    bind();
     const auto& hot = in.at("hot");
     const auto& plan = in.at("plan");
     const auto& cell = in.at("cell");
@@ -277,6 +289,8 @@ class EventDrivenGas : public Stateful {
         in.at("scalars").size() != 10)
       throw std::invalid_argument("checkpoint does not match the number of particles");
     validate_state(in);
+    now_ = in.at("scalars").at(0);
+    bind();
     plan_.assign(n, Plan{never, 0, 0});
     event_kind_.assign(n, EventKind::none);
     for (std::size_t i = 0; i < n; ++i) {
@@ -298,7 +312,6 @@ class EventDrivenGas : public Stateful {
                        [&](std::uint32_t a, std::uint32_t b) { return place->second[a] > place->second[b]; });
     for (const std::uint32_t i : order) grid_.insert(i, grid_.from_serial(static_cast<std::uint64_t>(cell[i])));
     const auto& s = in.at("scalars");
-    now_ = s.at(0);
     calendar_.rebuild(now_, in.at("event_time"));
     kinetic_energy_ = s.at(1);
     next_resort_ = static_cast<std::uint64_t>(s.at(2));
@@ -310,6 +323,16 @@ class EventDrivenGas : public Stateful {
     statistics_.wall_dissipated_energy = s.at(8);
     statistics_.virial = s.at(9);
     collapse_.restore(in.at("collapse"));
+    // A state saved at a synchronisation (every record at now_) is handed to
+    // the World, which moves nothing, as after start(). One saved between
+    // events (an interrupted run) stays in the records, where the run goes
+    // on from it exactly as it would have without the interruption; the
+    // World's motion columns are then not current until synchronize().
+    if (std::all_of(hot_.begin(), hot_.begin() + static_cast<std::ptrdiff_t>(n),
+                    [&](const MotionRecord<D>& record) { return record.t == now_; })) {
+      publish();
+      kinetic_energy_ = s.at(1);
+    }
   }
 
   // Re-sort every `pair_collisions` collisions whatever the size (0: the
@@ -372,10 +395,12 @@ class EventDrivenGas : public Stateful {
     }
   }
 
-  // Memory the engine and the components it uses hold per particle.
+  // Memory the engine and the components it uses hold per particle while
+  // events run (the World's positions and velocities are then released).
   std::size_t bytes_per_particle() const {
-    return world_.component_bytes_per_entity() + sizeof(MotionRecord<D>) + sizeof(Plan) + sizeof(EventKind) +
-           grid_.bytes_per_particle() + calendar_.bytes_per_particle();
+    return world_.component_bytes_per_entity() - 2 * sizeof(Vec<D>) +
+           sizeof(MotionRecord<D>) + sizeof(Plan) + sizeof(EventKind) + grid_.bytes_per_particle() +
+           calendar_.bytes_per_particle();
   }
 
  private:
@@ -389,23 +414,25 @@ class EventDrivenGas : public Stateful {
   }
 
   // Sorts particles by cell, then predicts every event afresh; all particles
-  // must be at time `now` in the World.
+  // must be at time `now` in the World, and the records hold them afterwards.
   void rebuild(double now) {
     const std::size_t count = world_.size();
-    if (sort_in_space_) sort_by_cell();
+    if (sort_in_space_) {
+      sort_by_cell();
+      return_freed_memory();  // the sort's keys and the columns' old copies
+    }
+    now_ = now;
     bind();
     grid_.clear();
-    for (std::uint32_t i = 0; i < count; ++i) {
-      hot_[i].t = now;
-      grid_.insert(i, grid_.locate(hot_[i].x));
-    }
+    for (std::uint32_t i = 0; i < count; ++i) grid_.insert(i, grid_.locate(hot_[i].x));
     plan_.assign(count, Plan{never, 0, 0});
     event_kind_.assign(count, EventKind::none);
-    now_ = now;
     std::vector<double> first_events(count);
     for (std::uint32_t i = 0; i < count; ++i) first_events[i] = predict(i);
     calendar_.rebuild(now, first_events);
     kinetic_energy_ = measure_kinetic_energy();
+    first_events = {};
+    return_freed_memory();
   }
 
   // Particles drift away from their neighbours in memory as the gas moves;
@@ -421,7 +448,13 @@ class EventDrivenGas : public Stateful {
   void resort() {
     ++resorts_;
     synchronize(now_);
-    rebuild(now_);
+    // Every event is predicted afresh: the old ones' memory is released
+    // before the sort needs room for its keys and copies.
+    release_pages(plan_);
+    release_pages(event_kind_);
+    calendar_.release_events();
+    grid_.release_lists();
+    rebuild(now_);  // takes the motion back: events run on
     next_resort_ = statistics_.pair_collisions + resort_interval();
   }
 
@@ -438,15 +471,60 @@ class EventDrivenGas : public Stateful {
     image_ = world_.template has_component<ImageCount<D>>() ? world_.template component<ImageCount<D>>().data()
                                                             : nullptr;
     box_ = world_.template resource<Box<D>>();
-    const auto& position = world_.template component<Position<D>>();
-    const auto& velocity = world_.template component<Velocity<D>>();
-    const auto& radius = world_.template component<Radius>();
     // One record more, the sentinel that pads the candidate list: its NaN
     // position fails every contact test.
     constexpr double nan = std::numeric_limits<double>::quiet_NaN();
     hot_.resize(world_.size() + 1);
-    for (std::size_t i = 0; i < world_.size(); ++i) hot_[i] = {position[i], velocity[i], 0.0, radius[i]};
     hot_[world_.size()] = {Vec<D>::Constant(nan), Vec<D>::Zero(), 0.0, 0.0};
+    take_back();
+  }
+
+  // The records and the World's Position and Velocity hold the motion in
+  // turn, copied a block at a time with each block's source released as it
+  // goes, so that the copy never has both resident: at 10^6 particles that
+  // is 48 MB of the peak.
+  static constexpr std::size_t handover_block = std::size_t{1} << 14;
+
+  // From the records to the World, every particle moved to now_ first.
+  void publish() {
+    auto& position = world_.template component<Position<D>>();
+    auto& velocity = world_.template component<Velocity<D>>();
+    const std::size_t n = world_.size();
+    double energy = 0.0;  // in storage order, as measure_kinetic_energy() sums it
+    for (std::size_t begin = 0; begin < n; begin += handover_block) {
+      const std::size_t end = std::min(n, begin + handover_block);
+      for (std::size_t i = begin; i < end; ++i) {
+        advance_particle(static_cast<std::uint32_t>(i));
+        position[i] = hot_[i].x;
+        velocity[i] = hot_[i].v;
+        energy += 0.5 * mass_[i] * hot_[i].v.squaredNorm();
+      }
+      release_pages(&hot_[begin], (end - begin) * sizeof(MotionRecord<D>));
+    }
+    kinetic_energy_ = energy;
+    records_hold_motion_ = false;
+  }
+
+  // From the World (all particles at now_) to the records.
+  void take_back() {
+    auto& position = world_.template component<Position<D>>();
+    auto& velocity = world_.template component<Velocity<D>>();
+    const auto& radius = world_.template component<Radius>();
+    const std::size_t n = world_.size();
+    for (std::size_t begin = 0; begin < n; begin += handover_block) {
+      const std::size_t end = std::min(n, begin + handover_block);
+      for (std::size_t i = begin; i < end; ++i) hot_[i] = {position[i], velocity[i], now_, radius[i]};
+      release_pages(&position[begin], (end - begin) * sizeof(Vec<D>));
+      release_pages(&velocity[begin], (end - begin) * sizeof(Vec<D>));
+    }
+    records_hold_motion_ = true;
+  }
+
+  // Particle i's record, from wherever the motion is held.
+  MotionRecord<D> motion_of(std::size_t i) const {
+    if (records_hold_motion_) return hot_[i];
+    return {world_.template component<Position<D>>()[i], world_.template component<Velocity<D>>()[i], now_,
+            world_.template component<Radius>()[i]};
   }
 
   // Z-order (Morton) of the cells: a cell's neighbours in every direction
@@ -731,6 +809,8 @@ class EventDrivenGas : public Stateful {
   CollapseMonitor collapse_;
 
   std::vector<MotionRecord<D>> hot_;
+  // Whether the records hold the particles' motion (else the World does).
+  bool records_hold_motion_ = false;
   double* mass_ = nullptr;
   std::uint32_t* count_ = nullptr;
   double* last_collision_ = nullptr;
