@@ -22,6 +22,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "engine/page_release.hpp"
 #include "engine/state_map.hpp"
 
 namespace granflow {
@@ -172,7 +173,12 @@ class World {
   // that may call it declares Access::writes_every_component().
   void permute(const std::vector<std::uint32_t>& order) {
     if (order.size() != count_) throw std::logic_error("permutation size differs from entity count");
-    for (auto& [type, entry] : components_) entry.column->permute(order);
+    for (auto& [type, entry] : components_) {
+      entry.column->permute(order);
+      // A large column's old copy goes back to the system before the next
+      // column makes its own, so that the peak is one column, not all.
+      if (entry.column->bytes_per_entity() * count_ >= large_column_bytes) return_freed_memory();
+    }
     for (auto& [key, saved] : saved_) {
       std::vector<double> reordered(saved.data.size());
       for (std::size_t k = 0; k < order.size(); ++k)
@@ -224,6 +230,9 @@ class World {
   }
 
  private:
+  // Columns from this size up may come from the heap rather than from pages
+  // of their own (glibc raises its mmap threshold up to 32 MiB).
+  static constexpr std::size_t large_column_bytes = std::size_t{1} << 20;
   struct SavedColumn {
     std::size_t width = 1;
     std::vector<double> data;

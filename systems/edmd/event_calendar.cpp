@@ -23,8 +23,7 @@ std::size_t EventCalendar::bytes_per_particle() const {
   return sizeof(Node) + ((bucket_head_.size() + overflow_.size()) * sizeof(std::int32_t)) / count;
 }
 
-void EventCalendar::rebuild(double now, const std::vector<double>& times) {
-  const std::size_t count = times.size();
+void EventCalendar::clear(std::size_t count) {
   nodes_.assign(count, Node{std::numeric_limits<double>::infinity(), -1, nowhere});
   heap_.clear();
   overflow_.assign(count, 0);
@@ -34,24 +33,28 @@ void EventCalendar::rebuild(double now, const std::vector<double>& times) {
   const std::size_t buckets = std::max<std::size_t>(count / 2, 64);
   bucket_head_.assign(buckets, -1);
   bucket_count_ = static_cast<double>(buckets);
+}
 
+// Sizes the bucket block for the times in the nodes, then files them.
+void EventCalendar::schedule_all(double now) {
+  const std::size_t count = nodes_.size();
   double ahead = 0.0;
   std::size_t finite = 0;
-  for (double t : times)
-    if (std::isfinite(t)) {
+  for (const Node& node : nodes_)
+    if (const double t = node.time; std::isfinite(t)) {
       ahead += std::max(t - now, 0.0);
       ++finite;
     }
   // One event per particle lies on average `ahead/finite` in the future; a
   // block of twice that holds most of them and the overflow stays small.
   const double mean_ahead = finite ? ahead / static_cast<double>(finite) : 1.0;
-  width_ = mean_ahead > 0.0 ? 2.0 * mean_ahead / static_cast<double>(buckets) : 1.0;
+  width_ = mean_ahead > 0.0 ? 2.0 * mean_ahead / bucket_count_ : 1.0;
   inverse_width_ = 1.0 / width_;
   block_start_ = now;
   current_ = 0;
   current_end_ = 1.0;
   loaded_in_block_ = 0;
-  for (std::uint32_t i = 0; i < count; ++i) schedule(i, times[i]);
+  for (std::uint32_t i = 0; i < count; ++i) schedule(i, nodes_[i].time);
 }
 
 void EventCalendar::release_events() const {

@@ -23,7 +23,17 @@ class EventCalendar {
 
   // Discards every event and sizes the bucket block for `times` (one per
   // particle, infinite = nothing scheduled), then schedules them.
-  void rebuild(double now, const std::vector<double>& times);
+  void rebuild(double now, const std::vector<double>& times) {
+    rebuild(now, times.size(), [&](std::uint32_t i) { return times[i]; });
+  }
+  // The same with particle i's time from event_time(i), kept in the
+  // calendar's own records rather than in a list of its own.
+  template <class EventTime>
+  void rebuild(double now, std::size_t count, EventTime&& event_time) {
+    clear(count);
+    for (std::uint32_t i = 0; i < count; ++i) nodes_[i].time = event_time(i);
+    schedule_all(now);
+  }
 
   // Schedules particle i at time t, replacing any event it had. Infinite t unschedules.
   void schedule(std::uint32_t i, double t);
@@ -46,6 +56,8 @@ class EventCalendar {
   static constexpr std::int32_t in_overflow = -3;
   static constexpr std::int32_t nowhere = -1;
 
+  void clear(std::size_t count);
+  void schedule_all(double now);
   std::uint32_t earliest_in_later_buckets();
   void insert(std::uint32_t i);
   void file(std::uint32_t i);

@@ -427,12 +427,8 @@ class EventDrivenGas : public Stateful {
     for (std::uint32_t i = 0; i < count; ++i) grid_.insert(i, grid_.locate(hot_[i].x));
     plan_.assign(count, Plan{never, 0, 0});
     event_kind_.assign(count, EventKind::none);
-    std::vector<double> first_events(count);
-    for (std::uint32_t i = 0; i < count; ++i) first_events[i] = predict(i);
-    calendar_.rebuild(now, first_events);
+    calendar_.rebuild(now, count, [this](std::uint32_t i) { return predict(i); });
     kinetic_energy_ = measure_kinetic_energy();
-    first_events = {};
-    return_freed_memory();
   }
 
   // Particles drift away from their neighbours in memory as the gas moves;

@@ -14,6 +14,12 @@ struct alignas(D == 3 ? 64 : 16) MotionRecord {
   double t;
   double r;
 
+  // Left unset, so that sizing an array of records touches none of its
+  // memory: the pages become resident only as the records are written.
+  MotionRecord() {}  // NOLINT(modernize-use-equals-default): "= default" would zero them
+  MotionRecord(const Vec<D>& position, const Vec<D>& velocity, double time, double radius)
+      : x(position), v(velocity), t(time), r(radius) {}
+
   // Field offsets in doubles, for kernels that read records as flat arrays.
   static constexpr int velocity_offset = D;
   static constexpr int time_offset = 2 * D;
