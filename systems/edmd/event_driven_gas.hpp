@@ -556,7 +556,8 @@ class EventDrivenGas : public Stateful {
   }
 
   // Earliest wall contact or cell crossing of particle i (at time now_ in cell `cell`).
-  void boundary_event(std::uint32_t i, const std::array<std::int32_t, D>& cell, double& best, EventKind& kind) const {
+  [[gnu::always_inline]] void boundary_event(std::uint32_t i, const std::array<std::int32_t, D>& cell, double& best,
+                                             EventKind& kind) const {
     const Vec<D>& xi = hot_[i].x;
     const Vec<D>& vi = hot_[i].v;
     const double ri = hot_[i].r;
