@@ -29,8 +29,11 @@ void EventCalendar::clear(std::size_t count) {
   overflow_.assign(count, 0);
   overflow_size_ = 0;
   scheduled_ = 0;
-  // Half a bucket head per particle keeps the calendar at ~22 bytes per particle.
-  const std::size_t buckets = std::max<std::size_t>(count / 2, 64);
+  // Two bucket heads per particle (8 bytes): a block spans about six events
+  // per particle, so the events waiting in the overflow are re-filed at
+  // fewer block starts than with half a head per particle, which cost more
+  // instructions and time per event (docs/performance.md).
+  const std::size_t buckets = std::max<std::size_t>(2 * count, 64);
   bucket_head_.assign(buckets, -1);
   bucket_count_ = static_cast<double>(buckets);
 }
