@@ -428,7 +428,6 @@ class EventDrivenGas : public Stateful {
     plan_.assign(count, Plan{never, 0, 0});
     event_kind_.assign(count, EventKind::none);
     calendar_.rebuild(now, count, [this](std::uint32_t i) { return predict(i); });
-    kinetic_energy_ = measure_kinetic_energy();
   }
 
   // Particles drift away from their neighbours in memory as the gas moves;
@@ -486,7 +485,7 @@ class EventDrivenGas : public Stateful {
     auto& position = world_.template component<Position<D>>();
     auto& velocity = world_.template component<Velocity<D>>();
     const std::size_t n = world_.size();
-    double energy = 0.0;  // in storage order, as measure_kinetic_energy() sums it
+    double energy = 0.0;
     for (std::size_t begin = 0; begin < n; begin += handover_block) {
       const std::size_t end = std::min(n, begin + handover_block);
       for (std::size_t i = begin; i < end; ++i) {
@@ -542,12 +541,6 @@ class EventDrivenGas : public Stateful {
     std::iota(order.begin(), order.end(), 0u);
     std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return morton[a] < morton[b]; });
     world_.permute(order);
-  }
-
-  double measure_kinetic_energy() const {
-    double sum = 0.0;
-    for (std::size_t i = 0; i < world_.size(); ++i) sum += 0.5 * mass_[i] * hot_[i].v.squaredNorm();
-    return sum;
   }
 
   void advance_particle(std::uint32_t i) {
