@@ -143,12 +143,6 @@ EarliestContact earliest_contact(CandidateList& candidates, std::size_t begin, s
                                  const MotionRecord<D>& self, double now) {
   constexpr std::size_t group = CandidateList::group;
   if (begin >= end) return {never, begin};
-  double xi[D], vi[D];
-  for (int a = 0; a < D; ++a) {
-    xi[a] = self.x[a];
-    vi[a] = self.v[a];
-  }
-  const double ri = self.r;
   double* times = candidates.times();
   const std::uint32_t* offset = candidates.record_offsets();
   const std::int32_t* shift_offset = candidates.shift_offsets();
@@ -162,10 +156,10 @@ EarliestContact earliest_contact(CandidateList& candidates, std::size_t begin, s
   const auto* flat = reinterpret_cast<const double*>(records);
   __m256d x[D], v[D];
   for (int a = 0; a < D; ++a) {
-    x[a] = _mm256_set1_pd(xi[a]);
-    v[a] = _mm256_set1_pd(vi[a]);
+    x[a] = _mm256_broadcast_sd(&self.x[a]);
+    v[a] = _mm256_broadcast_sd(&self.v[a]);
   }
-  const __m256d radius = _mm256_set1_pd(ri), at = _mm256_set1_pd(now);
+  const __m256d radius = _mm256_broadcast_sd(&self.r), at = _mm256_set1_pd(now);
   __m256d least = _mm256_set1_pd(never);
   const auto scan = [&](auto with_shifts) {
     for (std::size_t c = first; c < last; c += group) {
@@ -177,9 +171,9 @@ EarliestContact earliest_contact(CandidateList& candidates, std::size_t begin, s
   };
   if (shifts) scan(std::true_type{});
   else scan(std::false_type{});
-  double lanes[group];
-  _mm256_storeu_pd(lanes, least);
-  for (const double t : lanes) earliest = std::min(earliest, t);
+  // Lanes hold times or `never`, no NaN, so the order of the minima is immaterial.
+  const __m128d pair_least = _mm_min_pd(_mm256_castpd256_pd128(least), _mm256_extractf128_pd(least, 1));
+  earliest = _mm_cvtsd_f64(_mm_min_sd(pair_least, _mm_unpackhi_pd(pair_least, pair_least)));
   if (earliest == never) return {never, begin};
   // The first candidate with that time, a group at a time.
   const __m256d wanted = _mm256_set1_pd(earliest);
@@ -189,6 +183,12 @@ EarliestContact earliest_contact(CandidateList& candidates, std::size_t begin, s
     position += group;
   return {earliest, position + static_cast<std::size_t>(__builtin_ctz(static_cast<unsigned>(found)))};
 #else
+  double xi[D], vi[D];
+  for (int a = 0; a < D; ++a) {
+    xi[a] = self.x[a];
+    vi[a] = self.v[a];
+  }
+  const double ri = self.r;
   const double zero_shift[D] = {};
   for (std::size_t c = first; c < last; ++c) {
     const auto& record = *reinterpret_cast<const MotionRecord<D>*>(reinterpret_cast<const double*>(records) + offset[c]);
