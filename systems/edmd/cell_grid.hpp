@@ -264,9 +264,12 @@ class CellGrid {
     }
   }
 
-  // Copies a face cell's head into the halo cells that image it.
+  // Copies a face cell's head into the halo cells that image it. Most cells
+  // are not on a face: their test stays inline, the copy is a call.
   void mirror(std::uint32_t cell) {
-    if (!sees_images(cell)) return;
+    if (sees_images(cell)) mirror_into_halo(cell);
+  }
+  [[gnu::noinline]] void mirror_into_halo(std::uint32_t cell) {
     const Coordinates c = coordinates(cell);
     // Per axis, the padded coordinates at which this cell appears: its own,
     // and the halo layer beyond the opposite periodic face (both for a
