@@ -9,8 +9,8 @@
 namespace granflow::edmd {
 
 namespace {
-// Few events per bucket keep the heap tiny; more would cost heap work,
-// fewer would cost empty-bucket scans.
+// Few events per bucket keep the search of the current one short; more
+// would cost longer searches, fewer would cost empty-bucket scans.
 constexpr double events_per_bucket = 3.0;
 }  // namespace
 
@@ -97,19 +97,26 @@ void EventCalendar::start_next_block() {
 
 std::uint32_t EventCalendar::earliest_in_later_buckets() {
   if (scheduled_ == 0) return none;
-  while (heap_.empty()) {
+  while (bucket_head_[current_] < 0) {
     if (current_ + 1 < bucket_head_.size()) {
       ++current_;
       current_end_ += 1.0;
-      std::int32_t k = std::exchange(bucket_head_[current_], -1);
-      while (k >= 0) {
-        const auto i = static_cast<std::uint32_t>(k);
-        k = nodes_[i].next;
-        heap_push(i);
-      }
     } else {
       start_next_block();
     }
+  }
+  return earliest_in_current(bucket_head_[current_]);
+}
+
+// A bucket of many events (a burst of equal times, say) is kept in heap
+// order until it is spent, so that each event costs a logarithm of them
+// rather than a search through all.
+std::uint32_t EventCalendar::heap_current() {
+  std::int32_t k = std::exchange(bucket_head_[current_], -1);
+  while (k >= 0) {
+    const auto i = static_cast<std::uint32_t>(k);
+    k = nodes_[i].next;
+    heap_push(i);
   }
   return heap_.front();
 }

@@ -1,8 +1,9 @@
 #pragma once
 // Future-event calendar holding at most one event per particle, after Paul
-// (J. Comput. Phys. 221, 615 (2007)): the current time bucket is a binary
-// heap, later buckets of the current block are unsorted intrusive lists, and
-// events beyond the block wait in an overflow list. Insert, remove and
+// (J. Comput. Phys. 221, 615 (2007)): the buckets of the current block are
+// unsorted intrusive lists, the current one searched for its earliest event
+// (Paul's tree is kept only for a bucket that holds many: a binary heap),
+// and events beyond the block wait in an overflow list. Insert, remove and
 // find-earliest are O(1) on average. The bucket width is retuned at every
 // block from the measured event rate, so the calendar keeps a few events per
 // bucket while a granular gas cools and its event rate falls by orders of
@@ -40,7 +41,11 @@ class EventCalendar {
   void unschedule(std::uint32_t i);
 
   // Particle of the earliest event (ties: lowest index), or none.
-  std::uint32_t earliest() { return heap_.empty() ? earliest_in_later_buckets() : heap_.front(); }
+  std::uint32_t earliest() {
+    if (!heap_.empty()) return heap_.front();
+    const std::int32_t first = bucket_head_[current_];
+    return first < 0 ? earliest_in_later_buckets() : earliest_in_current(first);
+  }
   double time_of(std::uint32_t i) const { return nodes_[i].time; }
   std::size_t size() const { return scheduled_; }
 
@@ -59,15 +64,20 @@ class EventCalendar {
   void clear(std::size_t count);
   void schedule_all(double now);
   std::uint32_t earliest_in_later_buckets();
+  std::uint32_t earliest_in_current(std::int32_t first);
+  std::uint32_t heap_current();
   void insert(std::uint32_t i);
   void file(std::uint32_t i);
   void remove(std::uint32_t i);
   void list_push(std::int32_t& head, std::uint32_t i);
   void list_erase(std::int32_t& head, std::uint32_t i);
   void overflow_erase(std::uint32_t i);
-  bool heap_less(std::uint32_t a, std::uint32_t b) const {
+  // Time order, ties by particle index: a total order, so the earliest is
+  // the same whether it is searched for or kept at a heap's root.
+  bool earlier(std::uint32_t a, std::uint32_t b) const {
     return nodes_[a].time < nodes_[b].time || (nodes_[a].time == nodes_[b].time && a < b);
   }
+  bool heap_less(std::uint32_t a, std::uint32_t b) const { return earlier(a, b); }
   void heap_push(std::uint32_t i);
   void heap_erase(std::uint32_t i);
   void sift_up(std::size_t position, std::uint32_t item);
@@ -91,6 +101,10 @@ class EventCalendar {
   // can sort the overflow into buckets in place.
   std::vector<std::uint32_t> overflow_;
   std::size_t overflow_size_ = 0;
+  // The current bucket's events while it holds many (more than heap_from
+  // when searched), else empty: a bucket holds about three, and searching
+  // them costs fewer instructions than keeping them in heap order.
+  static constexpr std::size_t heap_from = 16;
   std::vector<std::uint32_t> heap_;
 
   double block_start_ = 0.0;
@@ -98,13 +112,13 @@ class EventCalendar {
   double inverse_width_ = 1.0;
   std::size_t current_ = 0;
   // An event whose offset from the block start, in bucket widths, is below
-  // current_end_ (current_ + 1) belongs in the heap, below bucket_count_ in a
+  // current_end_ (current_ + 1) belongs in the current bucket, below bucket_count_ in a
   // bucket, else in the overflow; kept as doubles so that filing an event
   // compares its offset without rounding it or converting indices.
   double current_end_ = 1.0;
   double bucket_count_ = 1.0;
   std::size_t scheduled_ = 0;
-  std::uint64_t loaded_in_block_ = 0;  // events that passed through the heap this block
+  std::uint64_t loaded_in_block_ = 0;  // events that left the current bucket this block
 };
 
 // What every event does is defined here, so that the event loop inlines it.
@@ -126,7 +140,12 @@ inline void EventCalendar::insert(std::uint32_t i) {
 inline void EventCalendar::file(std::uint32_t i) {
   const double offset = (nodes_[i].time - block_start_) * inverse_width_;
   if (offset < current_end_) {
-    heap_push(i);
+    if (!heap_.empty()) {
+      heap_push(i);
+    } else {
+      nodes_[i].where = static_cast<std::int32_t>(current_);
+      list_push(bucket_head_[current_], i);
+    }
   } else if (offset < bucket_count_) {
     const auto k = static_cast<std::int32_t>(offset);
     nodes_[i].where = k;
@@ -141,12 +160,15 @@ inline void EventCalendar::file(std::uint32_t i) {
 inline void EventCalendar::remove(std::uint32_t i) {
   --scheduled_;
   const std::int32_t w = nodes_[i].where;
-  if (w == in_heap)
+  if (w == in_heap) {
     heap_erase(i);
-  else if (w == in_overflow)
+    ++loaded_in_block_;
+  } else if (w == in_overflow) {
     overflow_erase(i);
-  else
+  } else {
     list_erase(bucket_head_[static_cast<std::size_t>(w)], i);
+    if (w == static_cast<std::int32_t>(current_)) ++loaded_in_block_;
+  }
   nodes_[i].where = nowhere;
 }
 
@@ -170,9 +192,17 @@ inline void EventCalendar::overflow_erase(std::uint32_t i) {
   nodes_[last].next = static_cast<std::int32_t>(position);
 }
 
+// The earliest of the current bucket's list, which starts at `first`.
+inline std::uint32_t EventCalendar::earliest_in_current(std::int32_t first) {
+  auto best = static_cast<std::uint32_t>(first);
+  std::size_t seen = 1;
+  for (std::int32_t k = nodes_[best].next; k >= 0; k = nodes_[static_cast<std::size_t>(k)].next, ++seen)
+    if (earlier(static_cast<std::uint32_t>(k), best)) best = static_cast<std::uint32_t>(k);
+  return seen > heap_from ? heap_current() : best;
+}
+
 inline void EventCalendar::heap_push(std::uint32_t i) {
   nodes_[i].where = in_heap;
-  ++loaded_in_block_;
   heap_.push_back(i);
   sift_up(heap_.size() - 1, i);
 }

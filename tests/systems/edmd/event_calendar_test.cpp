@@ -59,5 +59,36 @@ TEST(EventCalendar, EqualTimesComeOutInIndexOrder) {
   EXPECT_EQ(calendar.earliest(), EventCalendar::none);
 }
 
+// Hundreds of events at one time fill one bucket: it is then kept in heap
+// order, and events filed into it meanwhile, at that very time or just
+// after, must still come out in time and index order.
+TEST(EventCalendar, ABurstOfEqualTimesComesOutInOrder) {
+  constexpr std::uint32_t particles = 1000;
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<double> times(particles);
+  for (std::uint32_t i = 0; i < particles; ++i) times[i] = i % 5 < 3 ? 1.0 : 3.0 * unit(random);
+  EventCalendar calendar(particles);
+  calendar.rebuild(0.0, times);
+  std::set<std::pair<double, std::uint32_t>> exact;
+  for (std::uint32_t i = 0; i < particles; ++i) exact.insert({times[i], i});
+  for (int step = 0; step < 20000; ++step) {
+    const std::uint32_t first = calendar.earliest();
+    ASSERT_EQ(first, exact.begin()->second) << "step " << step;
+    const double now = times[first];
+    const auto reschedule = [&](std::uint32_t i, double t) {
+      exact.erase({times[i], i});
+      times[i] = t;
+      exact.insert({t, i});
+      calendar.schedule(i, t);
+    };
+    // A quarter of the events recur at once, as in a burst of contacts.
+    reschedule(first, unit(random) < 0.25 ? now : now + 3.0 * unit(random));
+    const auto partner = static_cast<std::uint32_t>(unit(random) * particles);
+    if (unit(random) < 0.3) reschedule(partner, now + 1e-3 * unit(random));
+    ASSERT_EQ(calendar.size(), exact.size());
+  }
+}
+
 }  // namespace
 }  // namespace granflow::edmd
