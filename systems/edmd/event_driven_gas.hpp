@@ -466,6 +466,7 @@ class EventDrivenGas : public Stateful {
     image_ = world_.template has_component<ImageCount<D>>() ? world_.template component<ImageCount<D>>().data()
                                                             : nullptr;
     box_ = world_.template resource<Box<D>>();
+    walled_ = !std::all_of(box_.periodic.begin(), box_.periodic.end(), [](bool p) { return p; });
     // One record more, the sentinel that pads the candidate list: its NaN
     // position fails every contact test.
     constexpr double nan = std::numeric_limits<double>::quiet_NaN();
@@ -556,17 +557,14 @@ class EventDrivenGas : public Stateful {
     const double ri = hot_[i].r;
     for (int a = 0; a < D; ++a) {
       const double v = vi[a];
-      if (v == 0.0) continue;
-      const bool upward = v > 0.0;
-      const bool at_wall = !box_.periodic[a] && (upward ? cell[a] == grid_.count(a) - 1 : cell[a] == 0);
-      double dt;
-      EventKind k;
-      if (at_wall) {
+      // A zero velocity (either sign) then divides a distance of its own
+      // sign, or zero: +infinity or NaN, neither ever the earliest.
+      const bool upward = !std::signbit(v);
+      double dt = ((cell[a] + (upward ? 1 : 0)) * grid_.width(a) - xi[a]) / v;
+      EventKind k = crossing_kind(a, upward);
+      if (walled_ && !box_.periodic[a] && (upward ? cell[a] == grid_.count(a) - 1 : cell[a] == 0)) {
         dt = ((upward ? box_.length[a] - ri : ri) - xi[a]) / v;
         k = wall_kind(a);
-      } else {
-        dt = ((cell[a] + (upward ? 1 : 0)) * grid_.width(a) - xi[a]) / v;
-        k = crossing_kind(a, upward);
       }
       dt = std::max(dt, 0.0);
       if (now_ + dt < best) {
@@ -794,6 +792,8 @@ class EventDrivenGas : public Stateful {
   CollisionParameters parameters_;
   bool sort_in_space_;
   Box<D> box_;
+  // Whether any axis has walls: a fully periodic box skips their test.
+  bool walled_ = false;
   CellGrid<D> grid_;
   EventCalendar calendar_;
   CollapseMonitor collapse_;
