@@ -634,10 +634,6 @@ class EventDrivenGas : public Stateful {
       repredict(j);
       return;
     }
-    double best_i = never, best_j = never;
-    EventKind kind_i = EventKind::none, kind_j = EventKind::none;
-    boundary_event(i, ci, best_i, kind_i);
-    boundary_event(j, cj, best_j, kind_j);
     // i tests the cells only it sees and the shared ones, j the shared ones
     // and its own. Neither need be left out: the pair has just collided, so
     // it recedes, and a particle never approaches itself.
@@ -661,6 +657,10 @@ class EventDrivenGas : public Stateful {
     writer.close();
     const auto for_i = earliest_among(0, shared_end, i, images);
     const auto for_j = earliest_among(shared_begin, candidates_.size(), j, images);
+    double best_i = never, best_j = never;
+    EventKind kind_i = EventKind::none, kind_j = EventKind::none;
+    boundary_event(i, ci, best_i, kind_i);
+    boundary_event(j, cj, best_j, kind_j);
     calendar_.schedule(i, conclude(i, best_i, kind_i, for_i.time, candidates_.template index<D>(for_i.position)));
     calendar_.schedule(j, conclude(j, best_j, kind_j, for_j.time, candidates_.template index<D>(for_j.position)));
   }
@@ -675,23 +675,13 @@ class EventDrivenGas : public Stateful {
   // still holds, provided that partner has not changed course.
   double predict(std::uint32_t i, const typename CellGrid<D>::Coordinates& cell, int entered_face) {
     const std::uint32_t here = grid_.cell_of(i);
-    double best = never;
-    EventKind kind = EventKind::none;
-    std::uint32_t partner = 0;
-    double best_collision = never;
-    if (entered_face >= 0) {
-      if (plan_[i].collision_time == never || count_[plan_[i].partner] == plan_[i].partner_count) {
-        best_collision = plan_[i].collision_time;
-        partner = plan_[i].partner;
-      } else {
-        entered_face = -1;  // the stored collision is stale: scan everything
-      }
-    }
-    boundary_event(i, cell, best, kind);
-    const std::int32_t* offsets = entered_face >= 0 ? grid_.entered_cells(entered_face) : grid_.neighbour_offsets();
+    const bool keeps_collision =
+        entered_face >= 0 && (plan_[i].collision_time == never || count_[plan_[i].partner] == plan_[i].partner_count);
+    // A stale stored collision makes it scan everything.
+    const std::int32_t* offsets = keeps_collision ? grid_.entered_cells(entered_face) : grid_.neighbour_offsets();
     std::int32_t heads[CellGrid<D>::padded(CellGrid<D>::neighbour_count)];
     const std::uint64_t occupied = occupied_cells(
-        grid_.heads(), here, offsets, entered_face >= 0 ? CellGrid<D>::entered_count : CellGrid<D>::neighbour_count,
+        grid_.heads(), here, offsets, keeps_collision ? CellGrid<D>::entered_count : CellGrid<D>::neighbour_count,
         heads);
     auto writer = start_candidates();
     const bool images = grid_.sees_images(here);
@@ -700,10 +690,17 @@ class EventDrivenGas : public Stateful {
     writer.close();
     // i itself need not be left out: a particle never approaches itself.
     const auto earliest = earliest_among(0, candidates_.size(), i, images);
+    // Read only now, so that nothing but i stays in registers across the
+    // candidate walk.
+    double best_collision = keeps_collision ? plan_[i].collision_time : never;
+    std::uint32_t partner = plan_[i].partner;
     if (earliest.time < best_collision) {
       best_collision = earliest.time;
       partner = candidates_.template index<D>(earliest.position);
     }
+    double best = never;
+    EventKind kind = EventKind::none;
+    boundary_event(i, cell, best, kind);
     return conclude(i, best, kind, best_collision, partner);
   }
 
