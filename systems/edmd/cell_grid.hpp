@@ -164,11 +164,12 @@ class CellGrid {
   // Coordinates inside the box (0 .. count - 1) of a cell inside the box.
   Coordinates coordinates(std::uint32_t cell) const {
     Coordinates c{};
-    for (int a = D - 1; a >= 0; --a) {
-      const auto padded = static_cast<std::int32_t>(cell / static_cast<std::uint32_t>(stride_[a]));
-      cell -= static_cast<std::uint32_t>(padded * stride_[a]);
-      c[a] = padded - 1;
+    for (int a = D - 1; a > 0; --a) {
+      const auto stride = static_cast<std::uint32_t>(stride_[a]);
+      c[a] = static_cast<std::int32_t>(cell / stride) - 1;
+      cell %= stride;
     }
+    c[0] = static_cast<std::int32_t>(cell) - 1;  // the first axis has stride 1
     return c;
   }
   std::uint32_t linear(const Coordinates& c) const {
