@@ -115,6 +115,8 @@ class CellGrid {
 
   std::int32_t count(int axis) const { return count_[axis]; }
   double width(int axis) const { return width_[axis]; }
+  // Step in the linear index of a cell to its neighbour along `axis`.
+  std::int32_t stride(int axis) const { return stride_[axis]; }
   // Cells inside the box (halo cells not counted).
   std::size_t cell_total() const {
     std::size_t total = 1;

@@ -768,20 +768,24 @@ class EventDrivenGas : public Stateful {
   typename CellGrid<D>::Coordinates cross_cell(std::uint32_t i, int face) {
     const int axis = face / 2;
     const bool upward = face % 2 == 1;
-    auto c = grid_.coordinates(grid_.cell_of(i));
+    const std::uint32_t from = grid_.cell_of(i);
+    auto c = grid_.coordinates(from);
     c[axis] += upward ? 1 : -1;
+    std::int32_t step = upward ? grid_.stride(axis) : -grid_.stride(axis);
     if (c[axis] == grid_.count(axis)) {
       c[axis] = 0;
+      step -= grid_.count(axis) * grid_.stride(axis);
       hot_[i].x[axis] -= box_.length[axis];
       if (image_) ++image_[i][axis];
     } else if (c[axis] < 0) {
       c[axis] = grid_.count(axis) - 1;
+      step += grid_.count(axis) * grid_.stride(axis);
       hot_[i].x[axis] += box_.length[axis];
       if (image_) --image_[i][axis];
     }
     ++statistics_.cell_crossings;
     grid_.erase(i);
-    grid_.insert(i, grid_.linear(c));
+    grid_.insert(i, static_cast<std::uint32_t>(static_cast<std::int32_t>(from) + step));
     return c;
   }
 
