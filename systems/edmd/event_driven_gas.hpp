@@ -549,12 +549,16 @@ class EventDrivenGas : public Stateful {
     hot_[i].t = now_;
   }
 
-  // Earliest wall contact or cell crossing of particle i (at time now_ in cell `cell`).
+  // Earliest wall contact or cell crossing of particle i (at time now_ in
+  // cell `cell`): sets `best` to its time and `kind` to its kind (never and
+  // none if the particle is at rest).
   [[gnu::always_inline]] void boundary_event(std::uint32_t i, const std::array<std::int32_t, D>& cell, double& best,
                                              EventKind& kind) const {
+    kind = EventKind::none;
     const Vec<D>& xi = hot_[i].x;
     const Vec<D>& vi = hot_[i].v;
     const double ri = hot_[i].r;
+    double earliest = never;
     for (int a = 0; a < D; ++a) {
       const double v = vi[a];
       // A zero velocity (either sign) then divides a distance of its own
@@ -569,12 +573,13 @@ class EventDrivenGas : public Stateful {
       // Masks, not a branch: which axis comes first is a coin toss, and
       // GCC turns a plain `if` here into a mispredicted jump (6 % of the
       // time per collision at packing fraction 0.065).
-      const double t = now_ + std::max(dt, 0.0);
-      const auto earlier = static_cast<std::uint8_t>(-static_cast<int>(t < best));
+      const auto earlier = static_cast<std::uint8_t>(-static_cast<int>(dt < earliest));
       kind = static_cast<EventKind>((static_cast<std::uint8_t>(k) & earlier) |
                                     (static_cast<std::uint8_t>(kind) & static_cast<std::uint8_t>(~earlier)));
-      best = std::min(best, t);
+      earliest = std::min(earliest, dt);
     }
+    // A negative time (a particle a rounding error outside its cell) means now.
+    best = now_ + std::max(earliest, 0.0);
   }
 
   // Stores particle i's earliest collision and returns the time of its earliest event.
