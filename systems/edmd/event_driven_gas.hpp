@@ -549,12 +549,14 @@ class EventDrivenGas : public Stateful {
     hot_[i].t = now_;
   }
 
+  struct BoundaryEvent {
+    double time;
+    EventKind kind;
+  };
   // Earliest wall contact or cell crossing of particle i (at time now_ in
-  // cell `cell`): sets `best` to its time and `kind` to its kind (never and
-  // none if the particle is at rest).
-  [[gnu::always_inline]] void boundary_event(std::uint32_t i, const std::array<std::int32_t, D>& cell, double& best,
-                                             EventKind& kind) const {
-    kind = EventKind::none;
+  // cell `cell`): never and none if the particle is at rest.
+  [[gnu::always_inline]] BoundaryEvent boundary_event(std::uint32_t i, const std::array<std::int32_t, D>& cell) const {
+    EventKind kind = EventKind::none;
     const Vec<D>& xi = hot_[i].x;
     const Vec<D>& vi = hot_[i].v;
     const double ri = hot_[i].r;
@@ -579,11 +581,13 @@ class EventDrivenGas : public Stateful {
       earliest = std::min(earliest, dt);
     }
     // A negative time (a particle a rounding error outside its cell) means now.
-    best = now_ + std::max(earliest, 0.0);
+    return {now_ + std::max(earliest, 0.0), kind};
   }
 
   // Stores particle i's earliest collision and returns the time of its earliest event.
-  double conclude(std::uint32_t i, double best, EventKind kind, double best_collision, std::uint32_t partner) {
+  double conclude(std::uint32_t i, BoundaryEvent boundary, double best_collision, std::uint32_t partner) {
+    double best = boundary.time;
+    EventKind kind = boundary.kind;
     if (best_collision < never) {
       plan_[i].collision_time = best_collision;
       plan_[i].partner = partner;
@@ -665,12 +669,8 @@ class EventDrivenGas : public Stateful {
     writer.close();
     const auto for_i = earliest_among(0, shared_end, i, images);
     const auto for_j = earliest_among(shared_begin, candidates_.size(), j, images);
-    double best_i = never, best_j = never;
-    EventKind kind_i = EventKind::none, kind_j = EventKind::none;
-    boundary_event(i, ci, best_i, kind_i);
-    boundary_event(j, cj, best_j, kind_j);
-    calendar_.schedule(i, conclude(i, best_i, kind_i, for_i.time, candidates_.template index<D>(for_i.position)));
-    calendar_.schedule(j, conclude(j, best_j, kind_j, for_j.time, candidates_.template index<D>(for_j.position)));
+    calendar_.schedule(i, conclude(i, boundary_event(i, ci), for_i.time, candidates_.template index<D>(for_i.position)));
+    calendar_.schedule(j, conclude(j, boundary_event(j, cj), for_j.time, candidates_.template index<D>(for_j.position)));
   }
 
   // Finds particle i's earliest event; i must be at time now_.
@@ -706,10 +706,7 @@ class EventDrivenGas : public Stateful {
       best_collision = earliest.time;
       partner = candidates_.template index<D>(earliest.position);
     }
-    double best = never;
-    EventKind kind = EventKind::none;
-    boundary_event(i, cell, best, kind);
-    return conclude(i, best, kind, best_collision, partner);
+    return conclude(i, boundary_event(i, cell), best_collision, partner);
   }
 
   void repredict(std::uint32_t i) { calendar_.schedule(i, predict(i)); }
