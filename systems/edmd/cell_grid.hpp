@@ -127,6 +127,7 @@ class CellGrid {
   std::int32_t head(std::uint32_t cell) const { return head_[cell]; }
   const std::int32_t* heads() const { return head_.data(); }
   std::int32_t next(std::uint32_t i) const { return member_[i].next; }
+  const void* membership(std::uint32_t i) const { return &member_[i]; }
   // The offsets of the neighbour_count cells around a cell (itself included), padded.
   const std::int32_t* neighbour_offsets() const { return neighbour_offset_.data(); }
   // Where a particle listed in `cell` is seen from the box's neighbouring

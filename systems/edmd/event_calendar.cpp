@@ -95,8 +95,8 @@ void EventCalendar::start_next_block() {
   for (std::size_t k = 0; k < pending; ++k) file(overflow_[k]);
 }
 
-std::uint32_t EventCalendar::earliest_in_later_buckets() {
-  if (scheduled_ == 0) return none;
+std::int32_t EventCalendar::first_of_later_buckets() {
+  if (scheduled_ == 0) return -1;
   while (bucket_head_[current_] < 0) {
     if (current_ + 1 < bucket_head_.size()) {
       ++current_;
@@ -105,7 +105,7 @@ std::uint32_t EventCalendar::earliest_in_later_buckets() {
       start_next_block();
     }
   }
-  return earliest_in_current(bucket_head_[current_]);
+  return bucket_head_[current_];
 }
 
 // A bucket of many events (a burst of equal times, say) is kept in heap

@@ -42,9 +42,22 @@ class EventCalendar {
 
   // Particle of the earliest event (ties: lowest index), or none.
   std::uint32_t earliest() {
+    return earliest([](std::uint32_t) {});
+  }
+  // The same, calling soon(k) for the particle k of every event in a bucket
+  // as it becomes the current one: the events due within the next few,
+  // whose data a caller may ask the memory for ahead of time. Each event is
+  // passed once at most; those filed straight into the current bucket are
+  // not (their particle has just been predicted, so its data is at hand).
+  template <class Soon>
+  std::uint32_t earliest(Soon&& soon) {
     if (!heap_.empty()) return heap_.front();
-    const std::int32_t first = bucket_head_[current_];
-    return first < 0 ? earliest_in_later_buckets() : earliest_in_current(first);
+    const auto passed_over = [](std::uint32_t) {};
+    std::int32_t first = bucket_head_[current_];
+    if (first >= 0) return earliest_in_current(first, passed_over);
+    first = first_of_later_buckets();
+    if (first < 0) return none;
+    return earliest_in_current(first, soon);
   }
   double time_of(std::uint32_t i) const { return nodes_[i].time; }
   std::size_t size() const { return scheduled_; }
@@ -63,8 +76,9 @@ class EventCalendar {
 
   void clear(std::size_t count);
   void schedule_all(double now);
-  std::uint32_t earliest_in_later_buckets();
-  std::uint32_t earliest_in_current(std::int32_t first);
+  std::int32_t first_of_later_buckets();
+  template <class Soon>
+  std::uint32_t earliest_in_current(std::int32_t first, const Soon& soon);
   std::uint32_t heap_current();
   void insert(std::uint32_t i);
   void file(std::uint32_t i);
@@ -193,11 +207,15 @@ inline void EventCalendar::overflow_erase(std::uint32_t i) {
 }
 
 // The earliest of the current bucket's list, which starts at `first`.
-inline std::uint32_t EventCalendar::earliest_in_current(std::int32_t first) {
+template <class Soon>
+inline std::uint32_t EventCalendar::earliest_in_current(std::int32_t first, const Soon& soon) {
   auto best = static_cast<std::uint32_t>(first);
+  soon(best);
   std::size_t seen = 1;
-  for (std::int32_t k = nodes_[best].next; k >= 0; k = nodes_[static_cast<std::size_t>(k)].next, ++seen)
+  for (std::int32_t k = nodes_[best].next; k >= 0; k = nodes_[static_cast<std::size_t>(k)].next, ++seen) {
+    soon(static_cast<std::uint32_t>(k));
     if (earlier(static_cast<std::uint32_t>(k), best)) best = static_cast<std::uint32_t>(k);
+  }
   return seen > heap_from ? heap_current() : best;
 }
 
