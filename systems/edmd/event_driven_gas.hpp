@@ -10,7 +10,8 @@
 //    radius) is packed in one 64-byte record, one cache line per neighbour;
 //    the records and the World's Position and Velocity take turns to hold
 //    the particles' motion (the records while events run, the World from
-//    synchronize() on), and are never both resident in memory;
+//    synchronize() on), and where synchronisations are rare they are never
+//    both resident in memory;
 //  * a cell list with cell-crossing events, so a prediction looks only at the
 //    3^D surrounding cells, through periodic images where the box is periodic;
 //  * one scheduled event per particle, its earliest; a collision stored
@@ -165,7 +166,7 @@ class EventDrivenGas : public Stateful {
             "box length {} along axis {} must exceed two particle diameters ({})", box.length[a], a, 4 * max_radius));
     grid_.reset(box, 2.0 * max_radius, count);
     rebuild(now);
-    publish();
+    publish(true);
     collapse_.reset(count, now, kinetic_energy_);
     next_resort_ = statistics_.pair_collisions + resort_interval();
   }
@@ -208,7 +209,7 @@ class EventDrivenGas : public Stateful {
     const double from = now_;
     now_ = std::max(now_, t);
     if (records_hold_motion_) {
-      publish();
+      publish(events_processed() - events_at_take_back_ >= release_after_events_ * world_.size());
       return;
     }
     // Synchronised before, at `from`: the same motion the records would get.
@@ -330,7 +331,7 @@ class EventDrivenGas : public Stateful {
     // World's motion columns are then not current until synchronize().
     if (std::all_of(hot_.begin(), hot_.begin() + static_cast<std::ptrdiff_t>(n),
                     [&](const MotionRecord<D>& record) { return record.t == now_; })) {
-      publish();
+      publish(true);
       kinetic_energy_ = s.at(1);
     }
   }
@@ -340,6 +341,11 @@ class EventDrivenGas : public Stateful {
   // takes effect at the next start() or re-sort.
   void set_resort_interval(std::uint64_t pair_collisions) { resort_every_ = pair_collisions; }
   std::uint64_t resorts() const { return resorts_; }
+
+  // A synchronisation hands the pages of one copy of the motion back to the
+  // system only if at least this many events per particle ran since the
+  // previous one (0: every time, for the least memory); see publish().
+  void set_release_after_events(std::uint64_t per_particle) { release_after_events_ = per_particle; }
 
   // Refuses a saved state that could not have come from a run (damaged or
   // crafted), naming what is wrong, before any of it is used as an index.
@@ -442,9 +448,10 @@ class EventDrivenGas : public Stateful {
 
   void resort() {
     ++resorts_;
-    synchronize(now_);
-    // Every event is predicted afresh: the old ones' memory is released
-    // before the sort needs room for its keys and copies.
+    // Every event is predicted afresh, which costs more than the page faults
+    // of a full handover: the records' memory and the old events' are
+    // released before the sort needs room for its keys and copies.
+    publish(true);
     release_pages(plan_);
     release_pages(event_kind_);
     calendar_.release_events();
@@ -478,11 +485,23 @@ class EventDrivenGas : public Stateful {
   // The records and the World's Position and Velocity hold the motion in
   // turn, copied a block at a time with each block's source released as it
   // goes, so that the copy never has both resident: at 10^6 particles that
-  // is 48 MB of the peak.
+  // is 48 MB of the peak. A released page costs a page fault when it is
+  // written again, up to 8 us on a virtual machine: about one event's time
+  // per particle for a handover there and back. Only synchronisations at
+  // least 16 events per particle apart (10 % of the events' time or less)
+  // hand the pages back; closer ones, as a run that observes often makes
+  // them, keep both copies resident.
   static constexpr std::size_t handover_block = std::size_t{1} << 14;
 
-  // From the records to the World, every particle moved to now_ first.
-  void publish() {
+  std::uint64_t events_processed() const {
+    const auto& s = statistics_;
+    return s.pair_collisions + s.wall_collisions + s.cell_crossings + s.stale_events;
+  }
+
+  // From the records to the World, every particle moved to now_ first;
+  // `release_records`: whether the records' pages, and at the next
+  // take_back() the World's, go back to the system.
+  void publish(bool release_records) {
     auto& position = world_.template component<Position<D>>();
     auto& velocity = world_.template component<Velocity<D>>();
     const std::size_t n = world_.size();
@@ -495,10 +514,11 @@ class EventDrivenGas : public Stateful {
         velocity[i] = hot_[i].v;
         energy += 0.5 * mass_[i] * hot_[i].v.squaredNorm();
       }
-      release_pages(&hot_[begin], (end - begin) * sizeof(MotionRecord<D>));
+      if (release_records) release_pages(&hot_[begin], (end - begin) * sizeof(MotionRecord<D>));
     }
     kinetic_energy_ = energy;
     records_hold_motion_ = false;
+    release_world_motion_ = release_records;
   }
 
   // From the World (all particles at now_) to the records.
@@ -510,10 +530,12 @@ class EventDrivenGas : public Stateful {
     for (std::size_t begin = 0; begin < n; begin += handover_block) {
       const std::size_t end = std::min(n, begin + handover_block);
       for (std::size_t i = begin; i < end; ++i) hot_[i] = {position[i], velocity[i], now_, radius[i]};
+      if (!release_world_motion_) continue;
       release_pages(&position[begin], (end - begin) * sizeof(Vec<D>));
       release_pages(&velocity[begin], (end - begin) * sizeof(Vec<D>));
     }
     records_hold_motion_ = true;
+    events_at_take_back_ = events_processed();
   }
 
   // Particle i's record, from wherever the motion is held.
@@ -818,6 +840,10 @@ class EventDrivenGas : public Stateful {
   std::vector<MotionRecord<D>> hot_;
   // Whether the records hold the particles' motion (else the World does).
   bool records_hold_motion_ = false;
+  // Whether the next take_back() releases the World's Position and Velocity.
+  bool release_world_motion_ = true;
+  std::uint64_t events_at_take_back_ = 0;
+  std::uint64_t release_after_events_ = 16;
   double* mass_ = nullptr;
   std::uint32_t* count_ = nullptr;
   double* last_collision_ = nullptr;
