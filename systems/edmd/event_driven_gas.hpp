@@ -105,6 +105,8 @@ struct EventStatistics {
   double dissipated_energy = 0.0;  // in pair collisions
   double wall_dissipated_energy = 0.0;
   double virial = 0.0;  // sum over collisions of r_ij . delta p_i
+
+  std::uint64_t events() const { return pair_collisions + wall_collisions + cell_crossings + stale_events; }
 };
 
 // One velocity-changing event, reported with stable particle ids.
@@ -209,7 +211,7 @@ class EventDrivenGas : public Stateful {
     const double from = now_;
     now_ = std::max(now_, t);
     if (records_hold_motion_) {
-      publish(events_processed() - events_at_take_back_ >= release_after_events_ * world_.size());
+      publish(statistics_.events() - events_at_take_back_ >= release_after_events_ * world_.size());
       return;
     }
     // Synchronised before, at `from`: the same motion the records would get.
@@ -345,6 +347,7 @@ class EventDrivenGas : public Stateful {
   // A synchronisation hands the pages of one copy of the motion back to the
   // system only if at least this many events per particle ran since the
   // previous one (0: every time, for the least memory); see publish().
+  static constexpr std::uint64_t default_release_after_events = 16;
   void set_release_after_events(std::uint64_t per_particle) { release_after_events_ = per_particle; }
 
   // Refuses a saved state that could not have come from a run (damaged or
@@ -493,11 +496,6 @@ class EventDrivenGas : public Stateful {
   // them, keep both copies resident.
   static constexpr std::size_t handover_block = std::size_t{1} << 14;
 
-  std::uint64_t events_processed() const {
-    const auto& s = statistics_;
-    return s.pair_collisions + s.wall_collisions + s.cell_crossings + s.stale_events;
-  }
-
   // From the records to the World, every particle moved to now_ first;
   // `release_records`: whether the records' pages, and at the next
   // take_back() the World's, go back to the system.
@@ -535,7 +533,7 @@ class EventDrivenGas : public Stateful {
       release_pages(&velocity[begin], (end - begin) * sizeof(Vec<D>));
     }
     records_hold_motion_ = true;
-    events_at_take_back_ = events_processed();
+    events_at_take_back_ = statistics_.events();
   }
 
   // Particle i's record, from wherever the motion is held.
@@ -843,7 +841,7 @@ class EventDrivenGas : public Stateful {
   // Whether the next take_back() releases the World's Position and Velocity.
   bool release_world_motion_ = true;
   std::uint64_t events_at_take_back_ = 0;
-  std::uint64_t release_after_events_ = 16;
+  std::uint64_t release_after_events_ = default_release_after_events;
   double* mass_ = nullptr;
   std::uint32_t* count_ = nullptr;
   double* last_collision_ = nullptr;
