@@ -150,7 +150,12 @@ std::string execute_sweep_run(const SweepPlan& plan, std::size_t k) {
   run_options.handle_signals = false;
   std::string outcome, why;
   try {
-    const int code = run_scenario(*scenario_registry().find(plan.scenario), run.config, run_options);
+    // Each run on one thread of its own: the sweep's parallelism is across
+    // runs, and a run's passes then take their sequential paths instead of
+    // handing work to slots that are busy with other runs.
+    int code = 0;
+    tbb::task_arena one_thread(1);
+    one_thread.execute([&] { code = run_scenario(*scenario_registry().find(plan.scenario), run.config, run_options); });
     outcome = code == 0 ? "done" : fmt::format("stopped (exit {})", code);
   } catch (const std::exception& error) {
     outcome = "failed";

@@ -9,6 +9,7 @@
 // of the work. The domains decide only who does the work, never the order
 // of a sum: results do not depend on them or on the thread count.
 
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
@@ -128,7 +129,14 @@ void for_each_sphere_run(const ThreadDomains& domains, const Body& body, std::si
   });
 }
 
-// The threads a pass may use.
-inline std::size_t domain_threads() { return static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency())); }
+// The threads a pass may use: the arena's, capped by a global limit
+// (--threads). A domain for a thread that cannot exist would be handed to a
+// slot nobody serves: oneTBB's static partitioner then leaves its affinity
+// proxies behind, a few hundred bytes every pass, for the whole run.
+inline std::size_t domain_threads() {
+  const std::size_t arena = static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  const std::size_t allowed = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+  return std::max<std::size_t>(1, std::min(arena, allowed));
+}
 
 }  // namespace granflow::dem
