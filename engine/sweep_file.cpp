@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -163,6 +164,22 @@ SweepFile parse_sweep_text(const std::string& text, const std::string& name) {
       throw plan_error(name, fmt::format("[{}] must be a table of key = [values]", section));
   if (table.contains("points") && !table["points"].as_array())
     throw plan_error(name, "[[points]] must be an array of tables");
+
+  // A key swept in two sections would silently lose one of its values.
+  std::map<std::string, std::string> section_of;
+  const auto claim = [&](const std::string& key, const std::string& section) {
+    const auto [it, fresh] = section_of.emplace(key, section);
+    if (!fresh && it->second != section)
+      throw plan_error(name, fmt::format("'{}' is swept in both [{}] and [{}]; give it in one of them", key, it->second,
+                                         section));
+  };
+  for (const char* section : {"grid", "zip"})
+    if (const auto* t = table[section].as_table())
+      for (const auto& [key, value] : leaves_in_file_order(*t)) claim(key, section);
+  if (const auto* list = table["points"].as_array())
+    for (const auto& entry : *list)
+      if (const auto* t = entry.as_table())
+        for (const auto& [key, value] : leaves_in_file_order(*t)) claim(key, "[points]");
 
   // Parameter points: grid x zip x listed points.
   std::vector<Assignment> points{{}};

@@ -66,6 +66,12 @@ SweepPlan read_sweep_plan(const std::string& sweep_file, const std::string& outp
   for (const auto& [key, value] : file.fixed) base.apply_override(key + "=" + value);
 
   const auto& points = file.points;
+  // Every key of every point before any point is planned, so that a
+  // misspelling in the last point is named as such.
+  for (std::size_t p = 0; p < points.size(); ++p)
+    for (const auto& [key, value] : points[p])
+      if (!base.schema().find(key))
+        throw plan_error(sweep_file, fmt::format("parameter point {}: unknown configuration key '{}'", p, key));
   std::set<std::string> seen;
   for (const auto& point : points)
     for (const auto& [key, value] : point)

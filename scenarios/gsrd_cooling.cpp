@@ -19,6 +19,7 @@
 #include "systems/srd/srd_state_observer.hpp"
 #include "systems/srd/velocity_distribution.hpp"
 #include "systems/srd/srd_theory.hpp"
+#include "systems/srd/srd_watchdog.hpp"
 
 namespace granflow::scenarios {
 namespace {
@@ -47,7 +48,7 @@ void build(Run& run) {
   run.derive("initial_temperature", c.real("srd.temperature"));
   const auto outputs =
       std::make_shared<AtSteps>(log_steps(c.integer("run.steps"), static_cast<int>(c.integer("output.points_per_decade"))));
-  run.observe<srd::SrdStateObserver<D>>(outputs);
+  srd::observe_state<D>(run, outputs);
   const auto bins = static_cast<std::size_t>(c.integer("output.distribution_bins"));
   run.observe<srd::VelocityDistributionObserver<D>>(outputs, bins);
   run.at_finish([bins](H5mdFile& file, const RunOutcome&) {

@@ -28,6 +28,7 @@
 #include "systems/srd/srd_profiles.hpp"
 #include "systems/srd/srd_setup.hpp"
 #include "systems/srd/srd_state_observer.hpp"
+#include "systems/srd/srd_watchdog.hpp"
 
 namespace granflow::scenarios {
 namespace {
@@ -86,7 +87,8 @@ void build(Run& run) {
   run.observe<srd::SrdEnergyAccount<D>>(std::make_shared<EverySteps>(1, 1), ledger);
   const auto outputs = std::make_shared<EverySteps>(every);
   run.observe<srd::SrdEnergyObserver<D>>(outputs, ledger, g);
-  run.observe<srd::SrdStateObserver<D>>(outputs);
+  run.observe<srd::SrdEnergyWatch>(outputs);
+  srd::observe_state<D>(run, outputs);
   run.observe<srd::SrdHeightObserver<D>>(outputs, up, n0);
   double layer_volume = 1.0;
   for (int a = 0; a < D; ++a)

@@ -46,14 +46,16 @@ void build(Run& run) {
   const std::array<double, D> box = dem::box_from(c, "shaken_bed");
   const auto n = static_cast<std::size_t>(c.integer("system.count"));
   const double radius = c.real("particle.radius"), mass = c.real("particle.mass");
+  dem::require_room(box, radius);
   const ContactLaw law = dem::law_from(c, c.real("contact.stiffness"), c.real("contact.restitution"));
-  double t_c = 0.0;
-  const double dt = dem::time_step_from(c, law, mass, t_c);
   const double divider_x = c.real("divider.position") > 0 ? c.real("divider.position") : 0.5 * box[0];
   if (divider_x <= 2.0 * radius || divider_x >= box[0] - 2.0 * radius)
     throw ConfigError(fmt::format("divider.position = {} leaves a compartment narrower than a sphere (box x: {})",
                                   divider_x, box[0]));
   const double amplitude = c.real("shaking.amplitude");
+  if (amplitude >= 0.25 * box[2])
+    throw ConfigError(fmt::format("shaking.amplitude = {} exceeds a quarter of the box height (system.box z = {})",
+                                  amplitude, box[2]));
   const double omega = 2.0 * std::numbers::pi * c.real("shaking.frequency");
 
   // Walls: the given list, or the box's six sides with the floor shaking.
@@ -111,7 +113,7 @@ void build(Run& run) {
   });
   const double t_stop = c.real("run.t_stop");
   const auto outputs = std::make_shared<EveryTime>(c.real("output.interval"), t_stop);
-  dem::add_dem_step(run, box, {false, false, false}, law, walls, dt, t_c, outputs);
+  const double dt = dem::add_dem_step(run, box, {false, false, false}, law, walls, dem::damping_key(c), outputs);
   const auto counts = std::make_shared<dem::CompartmentCounts>();
   counts->average_from = c.real("output.average_after");
   if (counts->average_from >= t_stop)
@@ -136,7 +138,7 @@ void build(Run& run) {
   profile.area_right = (box[0] - divider_x) * box[1];
   run.observe<dem::DemHeightProfiles<D>>(outputs, profile);
   profile.average_from = counts->average_from;
-  const double sample_every = dem::profile_sample_interval(c.real("shaking.frequency"), c.real("output.interval"));
+  const double sample_every = dem::profile_sample_interval(c.real("shaking.frequency"), c.real("output.interval"), dt);
   auto& average = run.keep("height_profile_average", run.observe<dem::DemHeightProfileAverage<D>>(
                                                          std::make_shared<EveryTime>(sample_every, t_stop), profile));
   run.at_finish([&average](H5mdFile& file, const RunOutcome&) { average.write_means(file); });

@@ -22,6 +22,7 @@
 #include "systems/srd/srd_setup.hpp"
 #include "systems/srd/srd_state_observer.hpp"
 #include "systems/srd/srd_theory.hpp"
+#include "systems/srd/srd_watchdog.hpp"
 
 namespace granflow::scenarios {
 namespace {
@@ -92,7 +93,7 @@ void build(Run& run) {
   run.observe<srd::SrdProfileSampler<D>>(std::make_shared<EverySteps>(1, warmup + 1), 1, 0, sums);
   const auto outputs = std::make_shared<EverySteps>(c.integer("output.every_steps"), warmup + c.integer("output.every_steps"));
   run.observe<srd::SrdProfileObserver<D>>(outputs, layer_volume, 1.0, sums);
-  run.observe<srd::SrdStateObserver<D>>(std::make_shared<EverySteps>(c.integer("output.every_steps")));
+  srd::observe_state<D>(run, std::make_shared<EverySteps>(c.integer("output.every_steps")));
   const double g = acceleration[0];
   const int layers = cells[1];
   run.at_finish([sums, g, nu, layers, layer_volume](H5mdFile& file, const RunOutcome&) {

@@ -20,6 +20,7 @@
 #include "systems/srd/srd_setup.hpp"
 #include "systems/srd/srd_state_observer.hpp"
 #include "systems/srd/srd_theory.hpp"
+#include "systems/srd/srd_watchdog.hpp"
 
 namespace granflow::scenarios {
 namespace {
@@ -47,7 +48,7 @@ void build(Run& run) {
   run.keep("shear_stress", *sums);
   run.observe<srd::ShearStressSampler<D>>(std::make_shared<EverySteps>(1, warmup + 1), sums);
   const auto outputs = std::make_shared<EverySteps>(every);
-  run.observe<srd::SrdStateObserver<D>>(outputs);
+  srd::observe_state<D>(run, outputs);
   run.observe<srd::ShearViscosityObserver<D>>(outputs, sums);
   run.at_finish([sums, &run, n = static_cast<double>(run.world().size())](H5mdFile& file, const RunOutcome&) {
     const double rate = sums->measured_shear_rate();

@@ -53,9 +53,8 @@ void build(Run& run) {
   const Config& c = run.config();
   const std::array<double, D> box = dem::box_from(c, "vibrated_bed");
   const double radius = c.real("particle.radius"), mass = c.real("particle.mass");
+  dem::require_room(box, radius);
   const ContactLaw law = law_for(c, 0.5 * mass);
-  double t_c = 0.0;
-  const double dt = dem::time_step_from(c, law, mass, t_c);
   std::vector<DemWall> walls = dem::walls_from(c, box);
   if (walls.empty()) {
     DemWall floor;
@@ -75,6 +74,12 @@ void build(Run& run) {
   const auto& fill = c.reals("bed.fill");
   if (fill.size() != 6)
     throw ConfigError(fmt::format("bed.fill has {} entries; it needs [x0, x1, y0, y1, z0, z1]", fill.size()));
+  // The sites visited, counted before the loop that visits them.
+  double visits = 1.0;
+  for (std::size_t a = 1; a < 6; a += 2) visits *= std::max(0.0, std::floor(fill[a] / spacing)) + 1.0;
+  if (!(visits <= 1e8))
+    throw ConfigError(fmt::format("bed.lattice_density = {} over bed.fill gives {:.3g} lattice sites to visit; at most "
+                                  "1e8", c.real("bed.lattice_density"), visits));
   std::vector<Vec<D>> sites;
   for (int k = 0; k * spacing < fill[5]; ++k)
     for (int b = 0; b * spacing < fill[3]; ++b)
@@ -99,14 +104,16 @@ void build(Run& run) {
     for (std::size_t i = 0; i < n; ++i) v[i] -= mean;
   });
   const auto outputs = std::make_shared<EveryTime>(c.real("output.interval"), c.real("run.t_stop"));
-  dem::add_dem_step(run, box, {true, true, false}, law, walls, dt, t_c, outputs);
+  const std::string damping = c.real("contact.damping_rate") > 0.0 && law.model == dem::ContactModel::lsd
+                                  ? "contact.damping_rate" : dem::damping_key(c);
+  const double dt = dem::add_dem_step(run, box, {true, true, false}, law, walls, damping, outputs);
   dem::HeightProfileGeometry profile;
   profile.height = box[2];
   profile.layer = 2.0 * radius;
   profile.area = box[0] * box[1];
   run.observe<dem::DemHeightProfiles<D>>(outputs, profile);
   profile.average_from = c.real("output.average_after");
-  const double sample_every = dem::profile_sample_interval(c.real("shaking.frequency"), c.real("output.interval"));
+  const double sample_every = dem::profile_sample_interval(c.real("shaking.frequency"), c.real("output.interval"), dt);
   auto& average = run.keep("height_profile_average",
                            run.observe<dem::DemHeightProfileAverage<D>>(
                                std::make_shared<EveryTime>(sample_every, c.real("run.t_stop")), profile));

@@ -32,8 +32,10 @@
 #include "engine/units.hpp"
 #include "systems/dem/contact_forces.hpp"
 #include "systems/dem/dem_energy.hpp"
+#include "systems/dem/dem_watchdog.hpp"
 #include "systems/dem/neighbour_list.hpp"
 #include "systems/dem/position_verlet.hpp"
+#include "systems/dem/time_step.hpp"
 #include "systems/dem/velocity_verlet.hpp"
 #include "systems/dem/wall_observer.hpp"
 
@@ -60,7 +62,9 @@ inline void declare_dem_keys(ConfigSchema& s, const DemDefaults& d) {
       .choice("contact.model", "lsd", {"lsd", "hertz"},
               "normal contact force: linear spring-dashpot or Hertz with Kuwabara-Kono damping")
       .real("contact.stiffness", d.stiffness, 0.0, inf, "spring constant k (Hertz: of k delta^{3/2})", true)
-      .real("contact.restitution", d.restitution, 0.0, 1.0, "restitution e of the linear spring-dashpot (sets its damping)")
+      .real("contact.restitution", d.restitution, 0.0, 1.0,
+            "restitution e of the linear spring-dashpot (sets its damping; > 0: at e = 0 the dashpot is critically "
+            "damped and the spheres never separate)", true)
       .real("contact.hertz_damping", 0.0, 0.0, inf, "Hertz: the Kuwabara-Kono damping time A")
       .real("contact.friction", 0.0, 0.0, inf, "Coulomb friction mu of the tangential spring (0: frictionless, no rotation)")
       .real("contact.tangential_stiffness", 2.0 / 7.0, 0.0, inf, "tangential spring k_t / k_n (with friction)")
@@ -108,22 +112,26 @@ inline std::array<double, 3> box_from(const Config& c, const char* scenario) {
   return {edges[0], edges[1], edges[2]};
 }
 
-// run.dt, or t_c / 50 of a pair of spheres of `mass`; refused where it
-// cannot resolve a contact, a warning where it resolves it coarsely.
-inline double time_step_from(const Config& c, const ContactLaw& law, double mass, double& t_c) {
-  t_c = law.model == ContactModel::lsd ? law.contact_time(0.5 * mass) : 0.0;
-  double dt = c.real("run.dt");
-  if (dt == 0.0) {
-    if (law.model != ContactModel::lsd)
-      throw ConfigError("run.dt = 0 (t_c / 50) needs contact.model = \"lsd\"; give run.dt for Hertz contacts");
-    dt = t_c / 50.0;
-  }
-  if (t_c > 0.0 && dt > t_c / 3.0)
-    throw ConfigError(fmt::format("run.dt = {:.3g} cannot resolve a contact of duration t_c = {:.3g} (at most t_c / 3; "
-                                  "t_c / 50 is the default)", dt, t_c));
-  if (t_c > 0.0 && dt > t_c / 10.0)
-    spdlog::warn("run.dt = {:.3g} is above t_c / 10 = {:.3g}: contacts are resolved coarsely", dt, t_c / 10.0);
-  return dt;
+// The key that sets the pairs' damping under contact.model.
+inline std::string damping_key(const Config& c) {
+  return c.text("contact.model") == "hertz" ? "contact.hertz_damping" : "contact.restitution";
+}
+
+// The largest number of height-profile layers (of one sphere diameter) a box may have.
+inline constexpr double most_profile_layers = 1e6;
+
+// A box that holds spheres of `radius` with room to move, and whose
+// height profiles fit in memory; refused with the keys named otherwise.
+inline void require_room(const std::array<double, 3>& box, double radius) {
+  for (std::size_t a = 0; a < 3; ++a)
+    if (!(box[a] > 4.0 * radius))
+      throw ConfigError(fmt::format("system.box = [{}, {}, {}] is too small for spheres of particle.radius = {}: every "
+                                    "edge must exceed two diameters ({})",
+                                    box[0], box[1], box[2], radius, 4.0 * radius));
+  if (box[2] / (2.0 * radius) > most_profile_layers)
+    throw ConfigError(fmt::format("system.box z = {} holds {:.3g} layers of spheres of particle.radius = {} for the "
+                                  "height profiles; at most {:.0e}",
+                                  box[2], box[2] / (2.0 * radius), radius, most_profile_layers));
 }
 
 // The walls of the `walls` list (empty where none is given).
@@ -168,16 +176,110 @@ inline SphereColumns add_spheres(World& world, std::size_t n, double radius, dou
   return {x, v};
 }
 
-// The resources, the forces of the initial state, the step chain, the
-// energy and wall observers at `outputs`, the particle frames
-// (output.positions), the stop at run.t_stop. Call after
-// run.initial_state.
-inline void add_dem_step(Run& run, const std::array<double, 3>& box, const std::array<bool, 3>& periodic,
-                         const ContactLaw& law, std::vector<DemWall> walls, double dt, double t_c,
-                         const TriggerPtr& outputs) {
+// How far the walls reach along each axis (the watchdog's bounds): every
+// closed axis needs a wall on each side, or a sphere could leave the box.
+inline DemWatch<3> wall_reach(const std::array<double, 3>& box, const std::array<bool, 3>& periodic,
+                              const std::vector<DemWall>& walls) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  DemWatch<3> watch;
+  for (std::size_t a = 0; a < 3; ++a) {
+    watch.lower[a] = periodic[a] ? -inf : inf;
+    watch.upper[a] = periodic[a] ? inf : -inf;
+  }
+  for (const DemWall& w : walls) {
+    if (w.divider) continue;
+    const auto a = static_cast<std::size_t>(w.axis);
+    if (w.side < 0) watch.lower[a] = std::min(watch.lower[a], w.rest - std::abs(w.amplitude));
+    else watch.upper[a] = std::max(watch.upper[a], w.rest + std::abs(w.amplitude));
+  }
+  constexpr const char* name[] = {"x", "y", "z"};
+  for (std::size_t a = 0; a < 3; ++a)
+    for (int side : {-1, +1})
+      if (std::isinf(side < 0 ? watch.lower[a] : watch.upper[a]) && !periodic[a])
+        throw ConfigError(fmt::format(
+            "walls: the box is closed along {} but has no wall on its {} side ({} = {}), so spheres could leave it; "
+            "add one, e.g. {{axis = \"{}\", position = {}}}",
+            name[a], side < 0 ? "lower" : "upper", name[a], side < 0 ? 0.0 : box[a], name[a], side < 0 ? 0.0 : box[a]));
+  return watch;
+}
+
+// What the run can do to its contacts, from its initial state, walls and gravity (stability_limits.hpp).
+inline ContactDemand contact_demand(const World& world, const std::vector<DemWall>& walls, const std::array<double, 3>& g) {
+  const auto& x = world.component<Position<3>>();
+  const auto& v = world.component<Velocity<3>>();
+  const auto& m = world.component<Mass>();
+  const auto& r = world.component<Radius>();
+  ContactDemand demand;
+  demand.radius = r.values.empty() ? 0.0 : *std::min_element(r.values.begin(), r.values.end());
+  const double heaviest = m.values.empty() ? 0.0 : *std::max_element(m.values.begin(), m.values.end());
+  double fastest = 0.0, wall_speed = 0.0, reach = 0.0;
+  for (const auto& vi : v.values) fastest = std::max(fastest, vi.norm());
+  for (const DemWall& w : walls) {
+    wall_speed = std::max(wall_speed, std::abs(w.amplitude * w.omega));
+    reach = std::max(reach, std::abs(w.amplitude));
+  }
+  const double g_norm = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  double height = 0.0;
+  if (g_norm > 0.0 && !x.values.empty()) {
+    double low = std::numeric_limits<double>::infinity(), high = -low;
+    for (const auto& p : x.values) {
+      const double h = -(g[0] * p[0] + g[1] * p[1] + g[2] * p[2]) / g_norm;
+      low = std::min(low, h);
+      high = std::max(high, h);
+    }
+    height = high - low + 2.0 * reach;
+  }
+  const double speeds[] = {2.0 * fastest, 2.0 * wall_speed, std::sqrt(2.0 * g_norm * height)};
+  const char* origins[] = {"the initial velocities", "the walls' motion",
+                           "a fall through the bed's height under gravity.acceleration"};
+  const auto largest = static_cast<std::size_t>(std::max_element(std::begin(speeds), std::end(speeds)) - speeds);
+  demand.speed = speeds[largest];
+  demand.speed_origin = origins[largest];
+  demand.load = demand.radius > 0.0 ? heaviest * g_norm * (height / (2.0 * demand.radius) + 1.0) : 0.0;
+  return demand;
+}
+
+// The resources, the forces of the initial state, the time step (chosen
+// and checked against every contact, time_step.hpp), the step chain with
+// its watchdog, the energy and wall observers at `outputs`, the particle
+// frames (output.positions), the stop at run.t_stop. `damping_key` names
+// the key that sets the pairs' damping. Call after run.initial_state.
+// Returns the time step.
+inline double add_dem_step(Run& run, const std::array<double, 3>& box, const std::array<bool, 3>& periodic,
+                           const ContactLaw& law, std::vector<DemWall> walls, const std::string& damping_key,
+                           const TriggerPtr& outputs) {
   constexpr int D = 3;
   const Config& c = run.config();
   auto& world = run.world();
+  const auto& g = c.reals("gravity.acceleration");
+  if (g.size() != 3) throw ConfigError(fmt::format("gravity.acceleration has {} entries; it needs 3", g.size()));
+  auto& watch = world.emplace_resource<DemWatch<D>>(wall_reach(box, periodic, walls));
+  const auto& masses = world.component<Mass>().values;
+  const double lightest = masses.empty() ? 1.0 : *std::min_element(masses.begin(), masses.end());
+  std::vector<ContactCase> cases{{"sphere-sphere", law, 0.5 * lightest, "contact.stiffness", damping_key}};
+  for (std::size_t k = 0; k < walls.size(); ++k) {
+    const bool known = std::any_of(cases.begin() + 1, cases.end(), [&](const ContactCase& seen) {
+      return seen.law.model == walls[k].law.model && seen.law.stiffness == walls[k].law.stiffness &&
+             seen.law.damping == walls[k].law.damping;
+    });
+    if (!known)
+      cases.push_back({c.tables("walls").empty() ? (walls[k].divider ? "divider" : "wall") : fmt::format("walls[{}]", k),
+                       walls[k].law, lightest, wall_key(c, k, "stiffness", "contact.stiffness"),
+                       wall_key(c, k, "restitution", damping_key.c_str())});
+  }
+  TangentialFriction friction;
+  friction.mu = c.real("contact.friction");
+  friction.stiffness_ratio = c.real("contact.tangential_stiffness");
+  friction.damping_ratio = c.real("contact.tangential_damping");
+  if (friction.active() && friction.stiffness_ratio <= 0.0)
+    throw ConfigError("contact.tangential_stiffness = 0 with contact.friction > 0: the tangential spring needs a stiffness");
+  const TimeStep time_step =
+      choose_time_step(c, cases, contact_demand(world, walls, {g[0], g[1], g[2]}), walls, friction);
+  const double dt = time_step.dt, t_c = time_step.collision_time;
+  watch.advice = fmt::format("The time step {:.4g} is {:.2g} x {} ({:.4g}) as estimated before the run; contacts "
+                             "harder than that estimate need a smaller run.dt (e.g. {:.3g}) or stiffer springs",
+                             dt, dt / time_step.shortest_scale, time_step.shortest_what, time_step.shortest_scale,
+                             time_step.shortest_scale / 50.0);
   // A periodic axis shorter than twice the interaction range would let a
   // sphere touch two images of another; the lists see only the nearest.
   const double skin = c.real("neighbour.skin") * c.real("particle.radius");
@@ -193,16 +295,12 @@ inline void add_dem_step(Run& run, const std::array<double, 3>& box, const std::
   auto& interactions = world.emplace_resource<DemInteractions<D>>();
   interactions.law = law;
   interactions.walls = std::move(walls);
-  interactions.friction.mu = c.real("contact.friction");
-  interactions.friction.stiffness_ratio = c.real("contact.tangential_stiffness");
-  interactions.friction.damping_ratio = c.real("contact.tangential_damping");
+  interactions.friction = friction;
   interactions.friction.dt = dt;
-  const bool friction = interactions.friction.active();
-  if (friction && c.text("run.integrator") == "position_verlet")
+  const bool rotating = interactions.friction.active();
+  if (rotating && c.text("run.integrator") == "position_verlet")
     throw ConfigError("contact.friction > 0 needs run.integrator = \"velocity_verlet\" (position Verlet has no rotation)");
-  if (friction && c.real("contact.tangential_stiffness") <= 0.0)
-    throw ConfigError("contact.tangential_stiffness = 0 with contact.friction > 0: the tangential spring needs a stiffness");
-  if (friction && !world.has_component<AngularVelocity>()) {
+  if (rotating && !world.has_component<AngularVelocity>()) {
     // Eigen leaves new vectors unset: the spheres start without spin.
     for (auto& w : world.add_component<AngularVelocity>().values) w.setZero();
     for (auto& t : world.add_component<Torque>().values) t.setZero();
@@ -210,10 +308,8 @@ inline void add_dem_step(Run& run, const std::array<double, 3>& box, const std::
   auto& neighbours = world.emplace_resource<NeighbourList<D>>();
   neighbours.skin = skin;
   neighbours.reorder = c.boolean("neighbour.reorder");
-  neighbours.keeps_history = friction;
+  neighbours.keeps_history = rotating;
   neighbours.walls = interactions.walls.size();
-  const auto& g = c.reals("gravity.acceleration");
-  if (g.size() != 3) throw ConfigError(fmt::format("gravity.acceleration has {} entries; it needs 3", g.size()));
   for (int a = 0; a < D; ++a) interactions.gravity[static_cast<std::size_t>(a)] = g[static_cast<std::size_t>(a)];
   auto& ledger = world.emplace_resource<DemLedger>();
   run.keep("energy", ledger);
@@ -250,6 +346,7 @@ inline void add_dem_step(Run& run, const std::array<double, 3>& box, const std::
   }
   run.step<DemEnergyAccount<D>>(dt);
   run.observe<DemEnergyObserver<D>>(outputs);
+  run.keep("energy_watch", run.observe<DemEnergyWatch<D>>(outputs));
   run.observe<DemWallObserver<D>>(outputs);
   add_particle_frames<D>(run, outputs);
   run.stop_at_time(c.real("run.t_stop"));
@@ -261,6 +358,7 @@ inline void add_dem_step(Run& run, const std::array<double, 3>& box, const std::
     file.write_attribute("/observables", "neighbour_list_builds", static_cast<double>(nl.builds));
     spdlog::info("{} steps, {} neighbour-list builds", run.clock().step, nl.builds);
   });
+  return dt;
 }
 
 }  // namespace granflow::dem

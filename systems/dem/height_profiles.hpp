@@ -129,9 +129,10 @@ class DemHeightProfiles : public System {
 };
 
 // When DemHeightProfileAverage samples: twenty times per shaking period, or,
-// with a floor at rest (frequency 0), twenty times per output interval.
-inline double profile_sample_interval(double shaking_frequency, double output_interval) {
-  return shaking_frequency > 0.0 ? 0.05 / shaking_frequency : 0.05 * output_interval;
+// with a floor at rest (frequency 0), twenty times per output interval; at
+// most once a step.
+inline double profile_sample_interval(double shaking_frequency, double output_interval, double dt) {
+  return std::max(dt, shaking_frequency > 0.0 ? 0.05 / shaking_frequency : 0.05 * output_interval);
 }
 
 inline const SystemDescription observe_dem_height_profile_average_description{

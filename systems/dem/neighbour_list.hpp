@@ -255,8 +255,19 @@ class DemNeighbourList : public System {
     std::array<std::size_t, D> stride{};
     std::array<double, D> per_length{};
     std::size_t cell_count = 1;
+    // Cells at least one range wide; wider where a box much larger than the
+    // spheres need (a tall, empty box, tiny spheres) would otherwise ask for
+    // more cells than memory holds. Wider cells only list more candidates.
+    std::array<double, D> wanted{};
+    double total = 1.0;
     for (int k = 0; k < D; ++k) {
-      cells[k] = std::max(1, static_cast<int>(std::floor(box.length[k] / range)));
+      wanted[k] = std::max(1.0, std::floor(box.length[k] / range));
+      total *= wanted[k];
+    }
+    const double most = std::max(8.0 * static_cast<double>(n), 65536.0);
+    const double shrink = total > most ? std::pow(most / total, 1.0 / D) : 1.0;
+    for (int k = 0; k < D; ++k) {
+      cells[k] = static_cast<int>(std::clamp(std::floor(wanted[k] * shrink), 1.0, most));
       // A periodic axis of fewer than three cells would list an image twice.
       if (box.periodic[k] && cells[k] < 3) cells[k] = 1;
       stride[k] = cell_count;
@@ -271,7 +282,9 @@ class DemNeighbourList : public System {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
           std::size_t c = 0;
           for (int k = 0; k < D; ++k) {
-            const int q = std::clamp(static_cast<int>(std::floor(x[i][k] * per_length[k])), 0, cells[k] - 1);
+            // In double first: a sphere far outside (the watchdog then stops the run) or not finite lands in an edge cell.
+            const double s = std::floor(x[i][k] * per_length[k]);
+            const int q = s > 0.0 ? static_cast<int>(std::min(s, static_cast<double>(cells[k] - 1))) : 0;
             c += stride[k] * static_cast<std::size_t>(q);
           }
           cell[i] = static_cast<std::uint32_t>(c);

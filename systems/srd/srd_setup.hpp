@@ -28,6 +28,7 @@
 #include "systems/srd/grid_shift.hpp"
 #include "systems/srd/rotation.hpp"
 #include "systems/srd/srd_cells.hpp"
+#include "systems/srd/srd_step_limits.hpp"
 #include "systems/srd/streaming.hpp"
 #include "systems/srd/srd_walls.hpp"
 #include "systems/srd/thermostat.hpp"
@@ -227,6 +228,7 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = 
   // Position, velocity, cell, order; per cell its sums, scratch and operator.
   require_memory(fmt::format("{:.3g} SRD particles", particles),
                  particles * (2.0 * 8.0 * D + 9.0) + cell_count * 8.0 * (D * D + 4.0 * D + 5.0));
+  check_srd_step<D>(c, cells, walls, force, particles);
   const auto n = static_cast<std::size_t>(particles);
   const double rate = c.real("shear.rate");
   const double temperature = c.real("srd.temperature");

@@ -127,9 +127,16 @@ GRANFLOW_HD inline void reflect(const Wall& wall, double t, double* v) {
   }
 }
 
+// The reflections one particle may have in one step. A step that needs
+// more is not one SRD can take (the particle would be put back on the wall
+// without its energy booked); the streaming counts such particles and the
+// run stops (streaming.hpp), and the time step is refused before the run
+// where a fast particle could need a quarter of them (srd_setup.hpp).
+inline constexpr int most_reflections = 64;
+
 // Streams one particle over [t0, t0 + dt] under acceleration g between the
 // walls (at most `wall_count`), reflecting it at each wall it meets. Returns
-// the number of reflections; adds to `work` (where given) the kinetic energy
+// the number of reflections (most_reflections: it needed more); adds to `work` (where given) the kinetic energy
 // per mass the reflections gave it, (|v'|^2 - |v|^2) / 2, which only a moving
 // wall makes nonzero. Axes without walls are left for the periodic wrapping
 // of the caller.
@@ -138,9 +145,7 @@ GRANFLOW_HD inline int stream_between_walls(double* x, double* v, const double* 
                                             const Wall* walls, int wall_count, double* work = nullptr) {
   double done = 0.0;
   int reflections = 0;
-  // Enough for any physical step; beyond it the particle is put back inside.
-  constexpr int most = 64;
-  while (reflections < most) {
+  while (reflections < most_reflections) {
     const double left = dt - done;
     int first = -1;
     double hit = left;

@@ -2,10 +2,13 @@
 // SRD streaming: every particle moves ballistically for one time step (or on
 // the exact parabola of a constant body force), reflected by the walls it
 // meets (srd_walls.hpp), back into the periodic box along the other axes,
-// through the Lees-Edwards planes where the box is sheared. It also advances
+// through the Lees-Edwards planes where the box is sheared; a particle that
+// needs more reflections in a step than srd_walls.hpp allows stops the run
+// (exit 3) instead of being put back unbooked. It also advances
 // the clock: the step number keys the step's random numbers in the systems
 // that follow.
 
+#include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -15,6 +18,7 @@
 #include "components/clock.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
+#include "engine/run_control.hpp"
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
@@ -44,7 +48,7 @@ class SrdStreaming : public System {
     cells.shear.velocity = rate * cells.length[1];
     cells.shear.offset = std::fmod(cells.shear.velocity * time, cells.length[0]);
   }
-  Access access() const override { return Access{}.writes<Position<D>, Velocity<D>, Clock, SrdCells<D>>(); }
+  Access access() const override { return Access{}.writes<Position<D>, Velocity<D>, Clock, SrdCells<D>, RunControl>(); }
 
   void run(World& world) override {
     auto& clock = world.resource<Clock>();
@@ -75,23 +79,41 @@ class SrdStreaming : public System {
     const std::size_t chunks = (world.size() + chunk - 1) / chunk;
     chunk_work_.assign(chunks, 0.0);
     chunk_reflections_.assign(chunks, 0);
+    chunk_stranded_.assign(chunks, 0);
     double* chunk_work = cells.record_energy ? chunk_work_.data() : nullptr;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks), [&](const auto& range) {
       for (std::size_t k = range.begin(); k != range.end(); ++k) {
-        std::uint64_t here = 0;
+        std::uint64_t here = 0, stranded = 0;
         double* work = chunk_work ? chunk_work + k : nullptr;
         const std::size_t end = std::min(world.size(), (k + 1) * chunk);
         for (std::size_t i = k * chunk; i != end; ++i) {
           double* xi = x + D * i;
           const double* g = force.acts_at(xi) ? force.acceleration : none;
-          here += static_cast<std::uint64_t>(stream_between_walls<D>(xi, v + D * i, g, start, dt, walls, wall_count, work));
+          const int reflections = stream_between_walls<D>(xi, v + D * i, g, start, dt, walls, wall_count, work);
+          here += static_cast<std::uint64_t>(reflections);
+          stranded += reflections == most_reflections ? 1 : 0;
           for (int a = 0; a < D; ++a)
             if (!(bounded & (1u << a))) xi[a] = wrapped(xi[a], length[a]);
         }
         chunk_reflections_[k] = here;
+        chunk_stranded_[k] = stranded;
       }
     });
-    for (std::size_t k = 0; k < chunks; ++k) cells.wall_reflections += chunk_reflections_[k];
+    std::uint64_t stranded = 0;
+    for (std::size_t k = 0; k < chunks; ++k) {
+      cells.wall_reflections += chunk_reflections_[k];
+      stranded += chunk_stranded_[k];
+    }
+    if (stranded > 0) {
+      auto& control = world.resource<RunControl>();
+      control.stop = control.failed = true;
+      control.reason = fmt::format(
+          "the SRD streaming failed at t = {:.6g} (step {}): {} particle(s) met the walls more than {} times in one step "
+          "and could not be streamed exactly (their energy would go unbooked). A particle pressed onto a wall by the "
+          "force hops 2 v / g apart, so a slow one hops without end; lower srd.time_step (now {:.4g}) or "
+          "force.acceleration / shaking.gravity",
+          clock.time, clock.step, stranded, most_reflections, dt_);
+    }
     if (cells.record_energy) {
       double work = 0.0;
       for (double w : chunk_work_) work += w;
@@ -105,6 +127,7 @@ class SrdStreaming : public System {
   BodyForce<D> force_;
   std::vector<double> chunk_work_;
   std::vector<std::uint64_t> chunk_reflections_;
+  std::vector<std::uint64_t> chunk_stranded_;
 };
 
 }  // namespace granflow::srd

@@ -16,6 +16,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -28,9 +29,11 @@
 #include "components/torque.hpp"
 #include "components/velocity.hpp"
 #include "engine/rng.hpp"
+#include "engine/run_control.hpp"
 #include "engine/world.hpp"
 #include "systems/dem/contact_forces.hpp"
 #include "systems/dem/dem_energy.hpp"
+#include "systems/dem/dem_watchdog.hpp"
 #include "systems/dem/neighbour_list.hpp"
 #include "systems/dem/position_verlet.hpp"
 #include "systems/dem/velocity_verlet.hpp"
@@ -58,6 +61,11 @@ struct Spheres {
     world.emplace_resource<NeighbourList<3>>().skin = skin;
     world.emplace_resource<DemInteractions<3>>();
     world.emplace_resource<DemLedger>();
+    // No bounds for the watchdog: these tests hold the spheres themselves.
+    world.emplace_resource<RunControl>();
+    auto& watch = world.emplace_resource<DemWatch<3>>();
+    watch.lower.fill(-std::numeric_limits<double>::infinity());
+    watch.upper.fill(std::numeric_limits<double>::infinity());
   }
   DemInteractions<3>& interactions() { return world.resource<DemInteractions<3>>(); }
   // Coulomb friction mu with the default tangential spring and dashpot: the

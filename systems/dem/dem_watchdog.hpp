@@ -1,0 +1,137 @@
+#pragma once
+// The physics watchdog of a soft-sphere run, as the event-driven gas has its
+// collapse monitor: it stops the run (exit 3) with a diagnosis when the
+// integration has failed, rather than let it write a file of nonsense.
+//  - Every step, inside the drift's own loop (no pass of its own): a
+//    position that is not finite, or a centre beyond the farthest reach of
+//    the walls along a closed axis (a sphere through a wall).
+//  - At every output: the energy ledger (dem_energy.hpp). E(t) - E(0) must
+//    equal what the walls injected less what the contacts dissipated up to
+//    the integrator's O(dt^2); an unstable step creates energy, and a
+//    difference beyond a quarter of the energy turned over stops the run.
+// The diagnosis says what failed, when, and which time scale the step must
+// resolve.
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "components/clock.hpp"
+#include "components/particle_id.hpp"
+#include "components/position.hpp"
+#include "engine/observable_store.hpp"
+#include "engine/run_control.hpp"
+#include "engine/state_map.hpp"
+#include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
+#include "engine/world.hpp"
+
+namespace granflow::dem {
+
+inline const SystemDescription watch_dem_energy_description{
+    "watch_dem_energy", "stops the run when the energy ledger no longer balances (an unstable step)"};
+
+// What the checks compare with, set before the run.
+template <int D>
+struct DemWatch {
+  static constexpr const char* key = "dem_watch";
+  // Along each closed axis the farthest the walls reach; +-infinity along periodic ones.
+  std::array<double, D> lower{}, upper{};
+  // What to change, appended to every diagnosis.
+  std::string advice;
+};
+
+// Stops the run with `what` (at the clock's time) and the advice.
+template <int D>
+void fail_run(World& world, const std::string& what) {
+  auto& control = world.resource<RunControl>();
+  if (control.failed) return;
+  const auto& clock = world.resource<Clock>();
+  control.stop = true;
+  control.failed = true;
+  control.reason = fmt::format("the soft-sphere integration failed at t = {:.6g} (step {}): {}. {}", clock.time,
+                               clock.step, what, world.resource<DemWatch<D>>().advice);
+}
+
+// Called when the drift found a sphere out of bounds: names the first one.
+template <int D>
+void report_escaped_sphere(World& world) {
+  const auto& x = world.component<Position<D>>();
+  const auto& watch = world.resource<DemWatch<D>>();
+  const auto* id = world.has_component<ParticleId>() ? &world.component<ParticleId>() : nullptr;
+  constexpr const char* axis_name[] = {"x", "y", "z"};
+  for (std::size_t i = 0; i < world.size(); ++i)
+    for (int a = 0; a < D; ++a) {
+      const double p = x[i][a];
+      if (p >= watch.lower[a] && p <= watch.upper[a]) continue;
+      const auto sphere = id ? (*id)[i] : i;
+      if (!std::isfinite(p))
+        return fail_run<D>(world, fmt::format("sphere {} has a position that is not finite ({} = {})", sphere,
+                                              axis_name[a], p));
+      return fail_run<D>(world, fmt::format("sphere {} went through a wall: {} = {:.6g}, outside the walls' reach "
+                                            "[{:.6g}, {:.6g}]",
+                                            sphere, axis_name[a], p, watch.lower[a], watch.upper[a]));
+    }
+}
+
+// The energy balance at every output, after observe_dem_energy.
+template <int D>
+class DemEnergyWatch : public System, public Stateful {
+ public:
+  static constexpr double tolerance = 0.25;  // of the energy turned over
+  std::string name() const override { return "watch_dem_energy"; }
+  Access access() const override {
+    return Access{}
+        .reads<Clock, DemWatch<D>>()
+        .reads_observable("kinetic_energy")
+        .reads_observable("potential_energy")
+        .reads_observable("elastic_energy")
+        .reads_observable("energy_injected")
+        .reads_observable("energy_dissipated")
+        .template writes<RunControl>();
+  }
+  void run(World& world) override {
+    auto& store = world.resource<ObservableStore>();
+    const auto value = [&](const char* name) {
+      const auto& v = store.slot(name).value;
+      return v.empty() ? 0.0 : v[0];
+    };
+    const double kinetic = value("kinetic_energy"), potential = value("potential_energy");
+    const double elastic = value("elastic_energy"), injected = value("energy_injected");
+    const double dissipated = value("energy_dissipated");
+    const double energy = kinetic + potential + elastic;
+    if (!std::isfinite(energy) || !std::isfinite(injected) || !std::isfinite(dissipated))
+      return fail_run<D>(world, fmt::format("the energy is not finite (kinetic {}, potential {}, elastic {})", kinetic,
+                                            potential, elastic));
+    if (!started_) {
+      started_ = true;
+      start_ = {kinetic + elastic, potential};
+      return;
+    }
+    const double error = std::abs(energy - start_[0] - start_[1] - (injected - dissipated));
+    const double turnover = kinetic + elastic + start_[0] + std::abs(potential - start_[1]) + injected + dissipated;
+    if (error > tolerance * turnover)
+      fail_run<D>(world, fmt::format("the energy changed by {:.4g} since the start, but the walls injected {:.4g} and "
+                                     "the contacts dissipated {:.4g}: the step created {:.4g} ({:.0f} % of the energy "
+                                     "turned over)",
+                                     energy - start_[0] - start_[1], injected, dissipated,
+                                     energy - start_[0] - start_[1] - (injected - dissipated),
+                                     100.0 * error / turnover));
+  }
+  StateMap save_state() const override { return {{"start", {started_ ? 1.0 : 0.0, start_[0], start_[1]}}}; }
+  void restore_state(const StateMap& state) override {
+    const auto& s = state.at("start");
+    if (s.size() != 3) throw std::invalid_argument("checkpoint energy watch has the wrong size");
+    started_ = s[0] != 0.0;
+    start_ = {s[1], s[2]};
+  }
+
+ private:
+  bool started_ = false;
+  std::array<double, 2> start_{};  // kinetic + elastic, potential
+};
+
+}  // namespace granflow::dem

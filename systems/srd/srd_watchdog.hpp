@@ -1,0 +1,100 @@
+#pragma once
+// The physics watchdog of an SRD run: it stops the run (exit 3) with a
+// diagnosis instead of letting it write a file of nonsense.
+//  - Every step, the streaming itself: a particle that needs more wall
+//    reflections in one step than it may have (streaming.hpp).
+//  - At every output, from what the observers computed anyway (no pass of
+//    its own): a temperature that is not finite (a velocity blew up), and,
+//    where the run keeps an energy ledger, a balance that no longer holds.
+//    The ledger is exact up to round-off (srd_energy.hpp), so a difference
+//    beyond 1e-6 of the energy turned over means energy went unbooked.
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <string>
+
+#include "components/clock.hpp"
+#include "engine/observable_store.hpp"
+#include "engine/run.hpp"
+#include "engine/run_control.hpp"
+#include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
+#include "engine/world.hpp"
+#include "systems/srd/srd_state_observer.hpp"
+
+namespace granflow::srd {
+
+inline const SystemDescription watch_srd_state_description{
+    "watch_srd_state", "stops the run when the fluid's temperature is no longer finite"};
+inline const SystemDescription watch_srd_energy_description{
+    "watch_srd_energy", "stops the run when the energy ledger no longer balances to round-off"};
+
+inline void fail_srd_run(World& world, const std::string& what) {
+  auto& control = world.resource<RunControl>();
+  if (control.failed) return;
+  const auto& clock = world.resource<Clock>();
+  control.stop = control.failed = true;
+  control.reason = fmt::format("the SRD run failed at t = {:.6g} (step {}): {}", clock.time, clock.step, what);
+}
+
+inline double observed(World& world, const char* name) {
+  const auto& value = world.resource<ObservableStore>().slot(name).value;
+  return value.empty() ? 0.0 : value[0];
+}
+
+class SrdStateWatch : public System {
+ public:
+  std::string name() const override { return "watch_srd_state"; }
+  Access access() const override {
+    return Access{}
+        .reads<Clock>()
+        .reads_observable("temperature")
+        .reads_observable("granular_temperature")
+        .writes<RunControl>();
+  }
+  void run(World& world) override {
+    const double temperature = observed(world, "temperature"), granular = observed(world, "granular_temperature");
+    if (!std::isfinite(temperature) || !std::isfinite(granular))
+      fail_srd_run(world, fmt::format("the fluid's temperature is not finite (thermal {}, granular {}): a velocity "
+                                      "blew up; check srd.time_step, the force and the walls' motion",
+                                      temperature, granular));
+  }
+};
+
+class SrdEnergyWatch : public System {
+ public:
+  static constexpr double tolerance = 1e-6;  // of the energy turned over
+  std::string name() const override { return "watch_srd_energy"; }
+  Access access() const override {
+    return Access{}
+        .reads<Clock>()
+        .reads_observable("kinetic_energy")
+        .reads_observable("potential_energy")
+        .reads_observable("energy_injected")
+        .reads_observable("energy_dissipated")
+        .reads_observable("energy_ghost_exchange")
+        .reads_observable("energy_balance_error")
+        .writes<RunControl>();
+  }
+  void run(World& world) override {
+    const double error = observed(world, "energy_balance_error");
+    const double turnover = observed(world, "kinetic_energy") + std::abs(observed(world, "potential_energy")) +
+                            observed(world, "energy_injected") + std::abs(observed(world, "energy_dissipated")) +
+                            std::abs(observed(world, "energy_ghost_exchange"));
+    if (!std::isfinite(error) || std::abs(error) > tolerance * turnover)
+      fail_srd_run(world, fmt::format("the energy ledger is off by {:.4g} ({:.2g} of the {:.4g} turned over), far "
+                                      "beyond round-off: energy changed that no wall, collision or ghost booked; "
+                                      "lower srd.time_step or the force",
+                                      error, std::abs(error) / turnover, turnover));
+  }
+};
+
+// The state observables at `when`, watched.
+template <int D>
+void observe_state(Run& run, const TriggerPtr& when) {
+  run.observe<SrdStateObserver<D>>(when);
+  run.observe<SrdStateWatch>(when);
+}
+
+}  // namespace granflow::srd
