@@ -66,6 +66,16 @@ class EveryTime : public Trigger {
     return std::min(end_, static_cast<double>(k_) * interval_);
   }
   void pass(double time, std::int64_t) override {
+    // Far behind (a resumed run, an interval far below the step): jump to
+    // one firing before `time` instead of counting there one by one.
+    const double behind = std::floor(time / interval_) - 1.0;
+    if (!done_ && behind > static_cast<double>(k_)) {
+      if (!(behind < 9e18)) {
+        done_ = true;  // more firings than a counter holds: none can be told apart
+        return;
+      }
+      k_ = static_cast<std::uint64_t>(behind);
+    }
     while (!done_ && time_reached(next_time(), time)) {
       if (next_time() >= end_) done_ = true;
       ++k_;

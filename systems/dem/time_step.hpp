@@ -82,13 +82,15 @@ inline TimeStep choose_time_step(const Config& c, const std::vector<ContactCase>
   };
   std::vector<ContactScales> scales;
   std::vector<std::string> names;
-  const auto consider = [&](const ContactScales& s, const std::string& what) {
+  std::string limiting_law;
+  const auto consider = [&](const ContactScales& s, const std::string& what, const std::string& law) {
     scales.push_back(s);
     names.push_back(what);
     default_dt = std::min(default_dt, s.default_step());
     if (s.largest_step() < largest) {
       largest = s.largest_step();
       limiting = what;
+      limiting_law = law;
     }
     if (s.spring_time < step.shortest_scale) {
       step.shortest_scale = s.spring_time;
@@ -129,16 +131,19 @@ inline TimeStep choose_time_step(const Config& c, const std::vector<ContactCase>
     if (s.overlap > 0.5 * demand.radius)
       spdlog::warn("{} contacts may overlap by {:.2g} sphere radii ({} = {:.4g}): a stiffer contact keeps them apart",
                    k.what, s.overlap / demand.radius, k.stiffness_key, k.law.stiffness);
-    consider(s, k.what);
-    if (friction.active()) consider(tangential(s), "tangential " + k.what);
+    const std::string law = fmt::format("{} = {:.4g}", k.stiffness_key, k.law.stiffness);
+    consider(s, k.what, law);
+    if (friction.active())
+      consider(tangential(s), "tangential " + k.what,
+               fmt::format("{}, contact.tangential_stiffness = {:.4g}", law, friction.stiffness_ratio));
   }
   step.collision_time = scales.empty() ? 0.0 : scales.front().duration;
   step.dt = c.real("run.dt") > 0.0 ? c.real("run.dt") : default_dt;
   if (c.real("run.dt") > 0.0 && step.dt > largest)
     throw ConfigError(fmt::format(
-        "run.dt = {:.4g} cannot resolve the {} contact: it is {:.3g} x the largest stable step {:.4g} ({} is {:.4g}); "
-        "use run.dt <= {:.3g}, or 0 for the default {:.3g}",
-        step.dt, limiting, step.dt / largest, largest, step.shortest_what, step.shortest_scale, largest, default_dt));
+        "run.dt = {:.4g} cannot resolve the {} contact ({}): it is {:.3g} x the largest stable step {:.4g} ({} is "
+        "{:.4g}); use run.dt <= {:.3g}, or 0 for the default {:.3g}",
+        step.dt, limiting, limiting_law, step.dt / largest, largest, step.shortest_what, step.shortest_scale, largest, default_dt));
   for (std::size_t k = 0; k < scales.size(); ++k) {
     const ContactScales& s = scales[k];
     if (step.dt > s.spring_time / 10.0 || step.dt > s.damping_time / 5.0)

@@ -47,5 +47,63 @@ for threads in 1 2; do
   fi
 done
 
+# Bad input: exit 2, the key named, before any step.
+expect_status 2 "contact.stiffness = 2e+04 is too soft for this run" run "$bed" "${tiny[@]}" \
+  --set 'gravity.acceleration=[0,0,-1e6]' -o "$work/x.h5md"
+expect_status 2 "run.dt = 0.1 cannot resolve the sphere-sphere contact" run "$bed" "${tiny[@]}" \
+  --set 'contact.model="hertz"' --set run.dt=0.1 -o "$work/x.h5md"
+expect_status 2 "cannot resolve the walls[4] contact (walls[4].stiffness = 1e+12)" run "$bed" "${tiny[@]}" --set run.dt=0.0003 \
+  --set 'walls=[{axis="x",position=0.0},{axis="x",position=20.0},{axis="y",position=0.0},{axis="y",position=4.0},{axis="z",position=0.0,stiffness=1e12},{axis="z",position=40.0}]' \
+  -o "$work/x.h5md"
+expect_status 2 "'contact.restitution' = 0 is out of range: allowed is a number in (0, 1]" run "$bed" "${tiny[@]}" \
+  --set contact.restitution=0 -o "$work/x.h5md"
+expect_status 2 "contact.damping_rate = 130.0: the sphere-sphere contact is overdamped" run "$deep" -q \
+  --set contact.damping_rate=130 -o "$work/x.h5md"
+expect_status 2 "particle.mass = 1e+308 and contact.stiffness = 2e+04 give the sphere-sphere contact no time scale" \
+  run "$bed" "${tiny[@]}" --set particle.mass=1e308 -o "$work/x.h5md"
+expect_status 2 "shaking.frequency = inf: the wall's speed is not finite" run "$bed" "${tiny[@]}" \
+  --set shaking.frequency=1e308 -o "$work/x.h5md"
+expect_status 2 "output.interval = 4.941e-324 is shorter than the time step" run "$bed" "${tiny[@]}" \
+  --set output.interval=5e-324 -o "$work/x.h5md"
+expect_status 2 "bed.lattice_density = 1e+308 over bed.fill gives inf lattice sites" run "$deep" -q \
+  --set bed.lattice_density=1e308 -o "$work/x.h5md"
+expect_status 2 "layers of spheres of particle.radius = 1e-100" run "$deep" -q --set particle.radius=1e-100 -o "$work/x.h5md"
+expect_status 2 "walls: the box is closed along x but has no wall on its lower side" run "$bed" "${tiny[@]}" \
+  --set 'walls=[{axis="z",position=0.0,amplitude=0.5,frequency=2.5}]' -o "$work/x.h5md"
+expect_status 2 "system.box = [1.5, 1.5, 1.5] is too small" run "$bed" "${tiny[@]}" --set 'system.box=[1.5,1.5,1.5]' \
+  -o "$work/x.h5md"
+expect_status 2 "shaking.amplitude = 1e+308 exceeds a quarter of the box height" run "$bed" "${tiny[@]}" \
+  --set shaking.amplitude=1e308 -o "$work/x.h5md"
+channel="$scenarios/srd_poiseuille.toml"
+expect_status 2 "srd.time_step = 1000 lets a fast particle" run "$channel" -q --set 'system.cells=[8,8]' \
+  --set srd.time_step=1000 -o "$work/x.h5md"
+expect_status 2 "shear.rate = 0.02 with walls" run "$channel" -q --set shear.rate=0.02 -o "$work/x.h5md"
+expect_status 2 "srd.time_step = 1e+308 moves a fast particle" run "$scenarios/gsrd_cooling.toml" -q \
+  --set srd.time_step=1e308 -o "$work/x.h5md"
+expect_status 2 "a double cannot hold" run "$scenarios/srd_viscosity.toml" -q --set thermostat.temperature=1e308 \
+  -o "$work/x.h5md"
+
+# What the pre-checks let through runs to a sane end: a huge, empty box
+# (the cell grid is bounded), restitution near 0 (the step follows the dashpot).
+for extreme in 'system.box=[1e9,4,40]' contact.restitution=1e-30; do
+  expect_status 0 "" run "$bed" "${tiny[@]}" --set "$extreme" -o "$work/sane.h5md"
+  if ! /usr/bin/python3 -c 'import h5py, numpy, sys
+f = h5py.File(sys.argv[1], "r")
+e = numpy.concatenate([f["observables"][k]["value"][:] for k in ("kinetic_energy", "potential_energy")])
+x = f["particles/all/position/value"][-1]
+sys.exit(0 if numpy.isfinite(e).all() and (x >= -0.5).all() and (x[:, 2] <= 40).all() else 1)' "$work/sane.h5md"; then
+    echo "FAIL: $extreme: energies not finite or spheres outside the box"; failures=$((failures + 1))
+  fi
+done
+
+# Failed physics: exit 3, a diagnosis, and the result file marked with it.
+rm -f "$work/fail.h5md"
+expect_status 3 "met the walls more than 64 times in one step" run "$scenarios/gsrd_shaken.toml" -q \
+  --set 'system.cells=[8,8,12]' --set run.steps=200 --set shaking.gravity=30 --set shaken.warmup_steps=100 \
+  -o "$work/fail.h5md"
+if ! "$granflow" info "$work/fail.h5md" 2>/dev/null | grep -q "stop_reason.*the SRD streaming failed"; then
+  echo "FAIL: the result of a failed run is not marked with its stop reason"; failures=$((failures + 1))
+fi
+
 echo "$failures failure(s)"
 [[ $failures -eq 0 ]]

@@ -4,16 +4,21 @@
 // the change of kinetic, potential and elastic energy to within 3 % of the
 // injected energy (the ledger integrates the powers by the trapezoidal
 // rule over the steps; measured 0.65 % at the default dt = t_c / 50); the
-// packing-fraction profiles against height hold every sphere once.
+// packing-fraction profiles against height hold every sphere once. A bed
+// whose state is broken mid-run (a sphere shot through the lid; energy
+// from nowhere) stops with the watchdog's diagnosis.
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <string>
 
+#include "components/velocity.hpp"
 #include "engine/h5md_reader.hpp"
+#include "engine/run.hpp"
 #include "engine/runner.hpp"
 #include "tests/scenario_schema.hpp"
 
@@ -94,6 +99,43 @@ TEST(ShakenBed, FluxAccountsForTheAsymmetryAndTheEnergyBalances) {
     floor_force += force[7 * k + 4] / static_cast<double>(time.size());
   }
   EXPECT_GT(floor_force, 0.0);
+}
+
+// shaken_bed built in memory, for a test to break its state.
+struct BedInMemory {
+  Config config{scenario_schema("shaken_bed")};
+  Profiler profiler;
+  std::unique_ptr<Run> run;
+  BedInMemory() {
+    config.set("run.t_stop", 5.0);
+    config.set("output.average_after", 1.0);
+    run = std::make_unique<Run>(config, profiler, 1, 0, nullptr, nullptr);
+    scenario_registry().find("shaken_bed")->build(*run);
+    run->prepare();
+  }
+  Velocity<3>& v() { return run->world().component<Velocity<3>>(); }
+};
+
+TEST(ShakenBed, ASphereShotThroughTheLidStopsTheRunAtOnce) {
+  BedInMemory bed;
+  bed.v()[17][2] = 1e30;
+  const RunOutcome outcome = bed.run->execute(nullptr);
+  EXPECT_EQ(outcome.kind, RunOutcome::Kind::failed);
+  EXPECT_NE(outcome.reason.find("went through a wall: z = "), std::string::npos) << outcome.reason;
+  EXPECT_NE(outcome.reason.find("(step 1)"), std::string::npos) << outcome.reason;
+}
+
+TEST(ShakenBed, EnergyFromNowhereStopsTheRunAtTheNextOutput) {
+  BedInMemory bed;
+  bool kicked = false;
+  const RunOutcome outcome = bed.run->execute(nullptr, [&] {
+    if (kicked) return;
+    for (auto& v : bed.v().values) v *= 30.0;  // after the first output: nothing books it
+    kicked = true;
+  });
+  EXPECT_EQ(outcome.kind, RunOutcome::Kind::failed);
+  EXPECT_NE(outcome.reason.find("the step created"), std::string::npos) << outcome.reason;
+  EXPECT_NEAR(bed.run->clock().time, 1.0, bed.run->derived("dt")) << "the next output after t = 0";
 }
 
 }  // namespace
