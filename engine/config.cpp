@@ -248,6 +248,15 @@ ConfigSchema& ConfigSchema::allow_change_on_resume(const std::string& key) {
   throw std::logic_error("allow_change_on_resume: no key " + key);
 }
 
+ConfigSchema& ConfigSchema::fixed_on_resume(const std::string& key) {
+  for (auto& spec : keys_)
+    if (spec.key == key) {
+      spec.resume_fixed = true;
+      return *this;
+    }
+  throw std::logic_error("fixed_on_resume: no key " + key);
+}
+
 ConfigSchema& ConfigSchema::real_array(const std::string& key, std::vector<double> def, double min, double max,
                                        std::size_t min_items, std::size_t max_items, const std::string& help) {
   KeySpec spec{key, ValueType::real_array, std::move(def), min, max, false, {}, help};
@@ -467,7 +476,7 @@ std::vector<std::string> Config::resume_conflicts(const Config& other) const {
   std::vector<std::string> out;
   for (const auto& [key, value] : values_) {
     const KeySpec& s = spec(key);
-    if (s.resume_may_change || key.rfind("output.", 0) == 0) continue;
+    if (s.resume_may_change || (key.rfind("output.", 0) == 0 && !s.resume_fixed)) continue;
     const auto it = other.values_.find(key);
     if (it == other.values_.end() || it->second != value) out.push_back(key);
   }

@@ -50,6 +50,7 @@ struct KeySpec {
   // A resumed run may use another value (a stop criterion, an output
   // setting); every other key must match the checkpoint's.
   bool resume_may_change = false;
+  bool resume_fixed = false;  // an output.* key that --resume may not change (it shaped what was already averaged)
   // Lists: how many items; for real_array every item lies in [min, max].
   std::size_t min_items = 0;
   std::size_t max_items = std::numeric_limits<std::size_t>::max();
@@ -81,6 +82,8 @@ class ConfigSchema {
 
   // Keys under output.* may always change on resume.
   ConfigSchema& allow_change_on_resume(const std::string& key);
+  // An output.* key that --resume must keep (output keys may change otherwise).
+  ConfigSchema& fixed_on_resume(const std::string& key);
   // The unit of a numeric key (engine/units.hpp), shown by `granflow keys`.
   ConfigSchema& unit(const std::string& key, const std::string& unit);
 

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 
 #include "engine/config.hpp"
 #include "engine/file_seal.hpp"
@@ -133,6 +134,8 @@ struct H5mdFile::Series {
   H5Handle value;
   std::vector<hsize_t> shape;
   hsize_t frames = 0;
+  hid_t value_type = H5T_NATIVE_DOUBLE;
+  std::string unit, time_unit;
 };
 
 // The .partial is claimed with an exclusive lock before HDF5 touches it: a
@@ -282,12 +285,101 @@ H5mdFile::Series& H5mdFile::series(const std::string& group_path, std::size_t va
   const hid_t g = group(group_path);
   auto s = std::make_unique<Series>();
   s->shape = value_shape;
+  s->value_type = value_type;
+  s->unit = unit;
+  s->time_unit = time_unit;
   s->step = create_extendible(g, "step", H5T_NATIVE_INT64, {});
   s->time = create_extendible(g, "time", H5T_NATIVE_DOUBLE, {});
   s->value = create_extendible(g, "value", value_type, value_shape);
   if (!unit.empty()) write_string_attribute(s->value, "unit", unit);
   if (!time_unit.empty()) write_string_attribute(s->time, "unit", time_unit);
   return *series_.emplace(group_path, std::move(s)).first->second;
+}
+
+void H5mdFile::append_to(Series& s, std::int64_t step, double time, const void* value, const std::string& what) {
+  append_frame(s.step, H5T_NATIVE_INT64, s.frames, &step, {}, what + "/step");
+  append_frame(s.time, H5T_NATIVE_DOUBLE, s.frames, &time, {}, what + "/time");
+  append_frame(s.value, s.value_type, s.frames, value, s.shape, what + "/value");
+  ++s.frames;
+}
+
+namespace {
+
+// A whole dataset, converted to doubles (exact for the steps and int32 values stored).
+std::vector<double> read_all(hid_t dataset, const std::string& what) {
+  H5Handle space(H5Dget_space(dataset), H5Sclose, "get space of " + what);
+  const hssize_t count = H5Sget_simple_extent_npoints(space);
+  if (count < 0) throw H5Error("cannot size " + what);
+  std::vector<double> out(static_cast<std::size_t>(count));
+  if (count > 0) h5_check(H5Dread(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), "read " + what);
+  return out;
+}
+
+std::vector<double> text_as_numbers(const std::string& text) { return {text.begin(), text.end()}; }
+std::string numbers_as_text(const std::vector<double>& numbers) {
+  std::string text;
+  for (double c : numbers) text.push_back(static_cast<char>(c));
+  return text;
+}
+
+}  // namespace
+
+StateMap H5mdFile::frames_state(const std::map<std::string, std::size_t>& limit) const {
+  StateMap state;
+  for (const auto& [path, s] : series_) {
+    if (path.rfind("/observables/", 0) == 0) continue;  // the recorder keeps those
+    std::size_t frames = s->frames;
+    if (const auto cap = limit.find(path); cap != limit.end()) frames = std::min(frames, cap->second);
+    std::size_t inner = 1;
+    for (hsize_t e : s->shape) inner *= e;
+    auto step = read_all(s->step, path + "/step"), time = read_all(s->time, path + "/time");
+    auto value = read_all(s->value, path + "/value");
+    step.resize(frames);
+    time.resize(frames);
+    value.resize(frames * inner);
+    state[path + "/step"] = std::move(step);
+    state[path + "/time"] = std::move(time);
+    state[path + "/value"] = std::move(value);
+    state[path + "/shape"].assign(s->shape.begin(), s->shape.end());
+    state[path + "/integer"] = {s->value_type == H5T_NATIVE_INT32 ? 1.0 : 0.0};
+    state[path + "/unit"] = text_as_numbers(s->unit);
+    state[path + "/time_unit"] = text_as_numbers(s->time_unit);
+  }
+  return state;
+}
+
+std::map<std::string, std::size_t> H5mdFile::frame_counts() const {
+  std::map<std::string, std::size_t> counts;
+  for (const auto& [path, s] : series_) counts[path] = s->frames;
+  return counts;
+}
+
+void H5mdFile::restore_frames(const StateMap& state) {
+  const std::string suffix = "/shape";
+  for (const auto& [key, shape_values] : state) {
+    if (key.size() <= suffix.size() || key.compare(key.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
+    const std::string path = key.substr(0, key.size() - suffix.size());
+    const auto& step = state.at(path + "/step");
+    const auto& time = state.at(path + "/time");
+    const auto& value = state.at(path + "/value");
+    const bool integer = state.at(path + "/integer").at(0) != 0.0;
+    const std::vector<hsize_t> shape(shape_values.begin(), shape_values.end());
+    std::size_t inner = 1;
+    for (hsize_t e : shape) inner *= e;
+    if (step.size() != time.size() || value.size() != step.size() * inner)
+      throw std::invalid_argument("checkpoint frames of " + path + " have inconsistent sizes");
+    for (std::size_t f = 0; f < step.size(); ++f) {
+      Series& s = series(path, inner, shape, integer ? H5T_NATIVE_INT32 : H5T_NATIVE_DOUBLE,
+                         numbers_as_text(state.at(path + "/unit")), numbers_as_text(state.at(path + "/time_unit")));
+      const double* frame = value.data() + f * inner;
+      if (integer) {
+        const std::vector<std::int32_t> ints(frame, frame + inner);
+        append_to(s, static_cast<std::int64_t>(step[f]), time[f], ints.data(), path);
+      } else {
+        append_to(s, static_cast<std::int64_t>(step[f]), time[f], frame, path);
+      }
+    }
+  }
 }
 
 // MDAnalysis refuses a unit string it does not know on the particles'
@@ -298,22 +390,16 @@ void H5mdFile::append_particle_frame(const std::string& name, std::int64_t step,
                                      const std::vector<double>& data, std::size_t components) {
   std::vector<hsize_t> shape{data.size() / components};
   if (components > 1) shape.push_back(components);
-  Series& s = series("/particles/all/" + name, data.size(), shape, H5T_NATIVE_DOUBLE, "", "");
-  append_frame(s.step, H5T_NATIVE_INT64, s.frames, &step, {}, name + "/step");
-  append_frame(s.time, H5T_NATIVE_DOUBLE, s.frames, &time, {}, name + "/time");
-  append_frame(s.value, H5T_NATIVE_DOUBLE, s.frames, data.data(), s.shape, name + "/value");
-  ++s.frames;
+  append_to(series("/particles/all/" + name, data.size(), shape, H5T_NATIVE_DOUBLE, "", ""), step, time, data.data(),
+            name);
 }
 
 void H5mdFile::append_particle_frame(const std::string& name, std::int64_t step, double time,
                                      const std::vector<std::int32_t>& data, std::size_t components) {
   std::vector<hsize_t> shape{data.size() / components};
   if (components > 1) shape.push_back(components);
-  Series& s = series("/particles/all/" + name, data.size(), shape, H5T_NATIVE_INT32, "", "");
-  append_frame(s.step, H5T_NATIVE_INT64, s.frames, &step, {}, name + "/step");
-  append_frame(s.time, H5T_NATIVE_DOUBLE, s.frames, &time, {}, name + "/time");
-  append_frame(s.value, H5T_NATIVE_INT32, s.frames, data.data(), s.shape, name + "/value");
-  ++s.frames;
+  append_to(series("/particles/all/" + name, data.size(), shape, H5T_NATIVE_INT32, "", ""), step, time, data.data(),
+            name);
 }
 
 void H5mdFile::append_observable(const std::string& name, std::int64_t step, double time, double value) {
@@ -328,22 +414,16 @@ void H5mdFile::append_observable(const std::string& name, std::int64_t step, dou
 void H5mdFile::append_observable_frame(const std::string& name, std::int64_t step, double time, const double* value,
                                        std::size_t count, const std::vector<hsize_t>& shape) {
   const auto unit = units_.find(name);
-  Series& s = series("/observables/" + name, count, shape, H5T_NATIVE_DOUBLE,
-                     unit == units_.end() ? "" : unit->second, unit::time);
-  append_frame(s.step, H5T_NATIVE_INT64, s.frames, &step, {}, name + "/step");
-  append_frame(s.time, H5T_NATIVE_DOUBLE, s.frames, &time, {}, name + "/time");
-  append_frame(s.value, H5T_NATIVE_DOUBLE, s.frames, value, s.shape, name + "/value");
-  ++s.frames;
+  append_to(series("/observables/" + name, count, shape, H5T_NATIVE_DOUBLE, unit == units_.end() ? "" : unit->second,
+                   unit::time),
+            step, time, value, name);
 }
 
 void H5mdFile::append_field(const std::string& name, std::int64_t step, double time,
                             const std::vector<double>& values, const std::vector<hsize_t>& shape,
                             const std::string& unit) {
-  Series& s = series("/fields/" + name, values.size(), shape, H5T_NATIVE_DOUBLE, unit, unit::time);
-  append_frame(s.step, H5T_NATIVE_INT64, s.frames, &step, {}, name + "/step");
-  append_frame(s.time, H5T_NATIVE_DOUBLE, s.frames, &time, {}, name + "/time");
-  append_frame(s.value, H5T_NATIVE_DOUBLE, s.frames, values.data(), s.shape, name + "/value");
-  ++s.frames;
+  append_to(series("/fields/" + name, values.size(), shape, H5T_NATIVE_DOUBLE, unit, unit::time), step, time,
+            values.data(), name);
 }
 
 void H5mdFile::write_observable_constant(const std::string& name, const std::vector<double>& value,

@@ -12,6 +12,7 @@
 
 #include "engine/h5_handle.hpp"
 #include "engine/profiler.hpp"
+#include "engine/state_map.hpp"
 
 namespace granflow {
 
@@ -58,6 +59,13 @@ class H5mdFile {
   void write_text_array(const std::string& group_path, const std::string& name, const std::vector<std::string>& values);
   void write_attribute(const std::string& group, const std::string& name, const std::string& value);
   void write_attribute(const std::string& group, const std::string& name, double value);
+  // The frames written straight to the file (particle frames, fields; not
+  // the observables, which the recorder keeps), for a checkpoint: each
+  // series at most `limit` frames where it names it. restore_frames writes
+  // them into a resumed run's new file before it writes more.
+  StateMap frames_state(const std::map<std::string, std::size_t>& limit = {}) const;
+  std::map<std::string, std::size_t> frame_counts() const;
+  void restore_frames(const StateMap& state);
   // Closes the file and moves it to its final name.
   void finish();
 
@@ -66,6 +74,7 @@ class H5mdFile {
   struct Series;
   void append_observable_frame(const std::string& name, std::int64_t step, double time, const double* value,
                                std::size_t count, const std::vector<hsize_t>& shape);
+  void append_to(Series& s, std::int64_t step, double time, const void* value, const std::string& what);
   Series& series(const std::string& group_path, std::size_t value_count, const std::vector<hsize_t>& value_shape,
                  hid_t value_type, const std::string& unit, const std::string& time_unit);
 

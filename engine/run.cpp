@@ -82,6 +82,7 @@ void Run::prepare() {
   round_step_ = static_cast<std::int64_t>(round->second[1]);
   for (auto& trigger : triggers_) trigger->pass(round_time_, round_step_);
   recorder_->replay(file_, state_under(*resume_, "history"));
+  if (file_) file_->restore_frames(state_under(*resume_, "frames"));
 }
 
 void Run::synchronise_host() {
@@ -99,6 +100,9 @@ StateMap Run::save() {
   for (const auto& [name, value] : derived_) out["derived/" + name] = {value};
   for (const auto& [name, object] : kept_) put_state_under(out, "kept/" + name, object->save_state());
   put_state_under(out, "history", recorder_->save_history());
+  // A finished run's checkpoint leaves out what its final round wrote: an
+  // extension writes its own at its new end.
+  if (file_) put_state_under(out, "frames", file_->frames_state(at_end_fired_ ? frames_before_end_ : FrameCounts{}));
   return out;
 }
 
@@ -134,6 +138,7 @@ void Run::fire(bool stopping, double target_time, std::int64_t target_step) {
 void Run::fire_at_end() {
   if (at_end_fired_) return;
   at_end_fired_ = true;
+  if (file_) frames_before_end_ = file_->frame_counts();
   auto& control = world_.resource<RunControl>();
   control.ending = true;
   run_observers([](const Trigger& t) { return t.at_end(); });

@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -22,6 +23,7 @@
 
 #include "components/clock.hpp"
 #include "engine/config.hpp"
+#include "engine/h5md_file.hpp"
 #include "engine/observable_recorder.hpp"
 #include "engine/observable_store.hpp"
 #include "engine/output_file.hpp"
@@ -174,6 +176,8 @@ class Run {
   double round_time_ = -std::numeric_limits<double>::infinity();
   std::int64_t round_step_ = -1;
   bool at_end_fired_ = false;
+  using FrameCounts = std::map<std::string, std::size_t>;
+  FrameCounts frames_before_end_;  // of the file's series, when the final round began
 };
 
 }  // namespace granflow

@@ -94,7 +94,8 @@ CheckpointContents load_for_resume(const std::string& path, const ConfigSchema& 
                           stored.values().count(key) ? to_string(stored.values().at(key)) : "-",
                           config.values().count(key) ? to_string(config.values().at(key)) : "-");
     throw InputError(fmt::format("--resume: checkpoint '{}' was written with other values of keys that change the "
-                                 "physics: {}; resume with the same file and --set options, or delete the checkpoint",
+                                 "physics or what was already averaged: {}; resume with the same file and --set "
+                                 "options, or delete the checkpoint",
                                  path, list));
   }
   return contents;
@@ -139,8 +140,9 @@ int single_run(const Scenario& scenario, const Config& config, const RunOptions&
   if (std::filesystem::exists(output)) spdlog::info("replacing the existing result file '{}'", output);
 
   // From here on a signal stops the run at a safe point instead of killing it.
-  std::optional<InterruptGuard> guard;
-  if (options.handle_signals) guard.emplace();
+  std::optional<InterruptGuard> own_guard;
+  const InterruptGuard* guard = options.interrupt_guard;
+  if (!guard && options.handle_signals) guard = &own_guard.emplace();
   H5mdFile file(output, scenario.name);
   file.write_parameters(config);
   Profiler profiler;
@@ -192,10 +194,13 @@ int single_run(const Scenario& scenario, const Config& config, const RunOptions&
     return exit_interrupted(guard->signal_number());
   }
   run.write_results(outcome);
+  // Taken while the file is open: the checkpoint carries the frames it holds.
+  std::optional<StateMap> final_state;
+  if (config.boolean("output.final_checkpoint")) final_state = run.save();
   file.write_profile(profiler.entries());
   file.finish();
-  if (config.boolean("output.final_checkpoint"))
-    write_checkpoint(checkpoint, scenario.name, config, run.save());
+  if (final_state)
+    write_checkpoint(checkpoint, scenario.name, config, *final_state);
   else
     std::filesystem::remove(checkpoint);
   if (options.profile) fmt::print("{}", profiler.table());
@@ -250,8 +255,9 @@ int ensemble_run(const Scenario& scenario, const Config& config, const RunOption
   const std::size_t count = scenario.members(config);
   if (count == 0) throw ConfigError(fmt::format("{}: the ensemble has no members", scenario.name));
   // From here on a signal stops the runs at a safe point instead of killing them.
-  std::optional<InterruptGuard> guard;
-  if (options.handle_signals) guard.emplace();
+  std::optional<InterruptGuard> own_guard;
+  const InterruptGuard* guard = options.interrupt_guard;
+  if (!guard && options.handle_signals) guard = &own_guard.emplace();
   std::vector<std::optional<EnsembleMember>> finished(count);
   std::vector<StateMap> in_progress(count);
   if (options.resume) {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "engine/config.hpp"
+#include "engine/interrupt.hpp"
 #include "engine/scenario.hpp"
 
 namespace granflow {
@@ -18,6 +19,8 @@ struct RunOptions {
   bool progress = true;
   bool resume = false;      // continue from OUTPUT.checkpoint
   bool handle_signals = true;  // SIGINT/SIGTERM checkpoint and stop (off inside sweeps' worker threads)
+  // A guard installed by the caller (a sweep), watched instead of one of the run's own.
+  const InterruptGuard* interrupt_guard = nullptr;
 };
 
 // Exit statuses of a run.

@@ -142,12 +142,14 @@ void log_sweep_start(const SweepPlan& plan, const SweepOptions& options, const S
                work.assigned - work.todo.size(), workers, plan.directory.string());
 }
 
-std::string execute_sweep_run(const SweepPlan& plan, std::size_t k) {
+std::string execute_sweep_run(const SweepPlan& plan, std::size_t k, const InterruptGuard* guard) {
   const SweepRun& run = plan.runs[k];
   RunOptions run_options;
   run_options.output_path = run.output.string();
   run_options.progress = false;
   run_options.handle_signals = false;
+  run_options.interrupt_guard = guard;
+  run_options.resume = std::filesystem::exists(run.output.string() + ".checkpoint");
   std::string outcome, why;
   try {
     // Each run on one thread of its own: the sweep's parallelism is across
@@ -156,6 +158,7 @@ std::string execute_sweep_run(const SweepPlan& plan, std::size_t k) {
     int code = 0;
     tbb::task_arena one_thread(1);
     one_thread.execute([&] { code = run_scenario(*scenario_registry().find(plan.scenario), run.config, run_options); });
+    if (guard && code == exit_interrupted(guard->signal_number())) return "interrupted";
     outcome = code == 0 ? "done" : fmt::format("stopped (exit {})", code);
   } catch (const std::exception& error) {
     outcome = "failed";
@@ -202,6 +205,8 @@ void SweepTally::record(std::size_t run, const std::string& outcome) {
                    fmt::format("{}/{} runs done", work_.assigned - work_.todo.size() + done_, work_.assigned));
 }
 
+void SweepTally::interrupt() { progress_.finish(); }
+
 void SweepTally::finish() {
   progress_.finish();
   if (summary_error_) throw *summary_error_;
@@ -218,22 +223,33 @@ int run_sweep(const SweepPlan& plan, const SweepOptions& options) {
   spdlog::set_level(spdlog::level::warn);
   std::mutex report;
   SweepTally tally(plan, work, options.progress);
+  // A signal stops the runs under way at their next safe point (each writes
+  // its checkpoint) and starts no more; a rerun continues them.
+  InterruptGuard guard;
+  std::size_t interrupted = 0;
   tbb::task_arena arena(workers);
   arena.execute([&] {
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, work.todo.size(), 1),
         [&](const tbb::blocked_range<std::size_t>& range) {
           for (std::size_t t = range.begin(); t != range.end(); ++t) {
-            if (tally.abandoned()) continue;
+            if (tally.abandoned() || guard.requested()) continue;
             const std::size_t k = work.todo[t];
-            const std::string outcome = execute_sweep_run(plan, k);
+            const std::string outcome = execute_sweep_run(plan, k, &guard);
             std::lock_guard lock(report);
-            tally.record(k, outcome);
+            if (outcome == "interrupted") ++interrupted;
+            else tally.record(k, outcome);
           }
         },
         tbb::simple_partitioner());
   });
   spdlog::set_level(level);
+  if (guard.requested()) {
+    tally.interrupt();
+    spdlog::warn("sweep interrupted (signal {}): {} run(s) under way checkpointed; run the same command to continue",
+                 guard.signal_number(), interrupted);
+    return exit_interrupted(guard.signal_number());
+  }
   tally.finish();
   return conclude_sweep(plan, options, work);
 }

@@ -17,6 +17,7 @@
 
 #include "engine/config.hpp"
 #include "engine/progress.hpp"
+#include "engine/interrupt.hpp"
 #include "engine/sweep_plan.hpp"
 #include "engine/sweep_shards.hpp"
 
@@ -31,7 +32,9 @@ struct SweepOptions {
 
 // Exit status: 0 when every point (of the shard) finished, 3 when a point
 // stopped on a physical failure, threw, or (collect) has no result (the
-// others still run and are summarised).
+// others still run and are summarised); 130 / 143 when SIGINT / SIGTERM
+// stopped it: the runs under way are checkpointed, and the same command
+// continues the sweep.
 int run_sweep(const SweepPlan& plan, const SweepOptions& options);
 
 // The pieces of run_sweep that a sweep spread over MPI ranks shares.
@@ -54,8 +57,11 @@ void log_sweep_start(const SweepPlan& plan, const SweepOptions& options, const S
                      const std::string& workers);
 
 // Runs plan.runs[k] into its result file and records its outcome beside it;
-// returns the outcome (a failure is logged, never thrown).
-std::string execute_sweep_run(const SweepPlan& plan, std::size_t k);
+// returns the outcome (a failure is logged, never thrown). A run with a
+// checkpoint of its own configuration (an interrupted attempt) continues
+// from it. With `guard`, a signal stops the run at its next safe point with
+// a checkpoint: the outcome is then "interrupted" and nothing is recorded.
+std::string execute_sweep_run(const SweepPlan& plan, std::size_t k, const InterruptGuard* guard = nullptr);
 
 // Takes the outcomes of runs as they finish (one caller at a time): each
 // run's status, the summary names checked against the first result, and the
@@ -69,6 +75,8 @@ class SweepTally {
   // Once the last run is in: ends the progress line, and throws the
   // ConfigError naming the summary name if there was one.
   void finish();
+  // Ends the progress display of an interrupted sweep (no summary).
+  void interrupt();
 
  private:
   const SweepPlan& plan_;

@@ -171,6 +171,7 @@ GRANFLOW_REGISTER_SCENARIO(shaken_bed, Scenario{
         .real("divider.height", 8.0, 0.0, inf, "the divider reaches from the floor to this height (0: no divider)")
         .real("output.average_after", 100.0, 0.0, inf, "time after which a and |a| are averaged (the attributes "
               "asymmetry_time_mean, asymmetry_abs_mean) and the flux sampled for Eggers' fit");
+    s.fixed_on_resume("output.average_after");
     s.unit("divider.position", unit::length).unit("divider.height", unit::length).unit("output.average_after", unit::time);
   },
   .build = build,

@@ -150,6 +150,7 @@ GRANFLOW_REGISTER_SCENARIO(vibrated_bed, Scenario{
         .real_array("bed.fill", {0.0, 22.5, 0.0, 22.5, 0.6, 20.5}, -1e9, 1e9, 6, 6,
                     "[x0, x1, y0, y1, z0, z1]: the lattice sites filled, in this order, up to system.count")
         .real("bed.temperature", 0.1, 0.0, inf, "initial kT of the spheres (Maxwell-Boltzmann, no net momentum)");
+    s.fixed_on_resume("output.average_after");
     s.unit("contact.damping_rate", unit::rate).unit("bed.lattice_density", "L-3").unit("bed.fill", unit::length)
         .unit("bed.temperature", unit::energy).unit("output.average_after", unit::time);
   },

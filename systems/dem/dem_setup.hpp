@@ -89,6 +89,8 @@ inline void declare_dem_keys(ConfigSchema& s, const DemDefaults& d) {
   wall.unit("position", unit::length).unit("stiffness", "M T-2").unit("amplitude", unit::length).unit("frequency", unit::rate)
       .unit("restitution", unit::none);
   s.table_array("walls", std::move(wall), 0, 16, "walls (default: the scenario's, the floor shaking)");
+  // A finished run (output.final_checkpoint) extends with --resume --set run.t_stop=...
+  s.allow_change_on_resume("run.t_stop");
   s.unit("system.box", unit::length).unit("particle.radius", unit::length).unit("particle.mass", unit::mass)
       .unit("contact.stiffness", "M T-2").unit("contact.restitution", unit::none).unit("contact.hertz_damping", unit::time)
       .unit("contact.friction", unit::none)

@@ -58,8 +58,6 @@ void add_particle_frames(Run& run, const TriggerPtr& outputs) {
   else if (policy == "all")
     when = outputs;
   if (!when) return;
-  if (run.resuming() && policy != "final")
-    spdlog::warn("output.positions = \"{}\": frames written before the checkpoint are not carried over", policy);
   run.observe<ParticleFrameWriter<D>>(when);
 }
 

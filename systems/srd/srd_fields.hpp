@@ -14,6 +14,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,7 @@
 #include "engine/h5md_file.hpp"
 #include "engine/output_file.hpp"
 #include "engine/run.hpp"
+#include "engine/state_map.hpp"
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/units.hpp"
@@ -36,7 +38,7 @@ inline const SystemDescription write_srd_fields_description{
     "write_srd_fields", "density, velocity and temperature fields on the unshifted grid, window-averaged, to /fields"};
 
 template <int D>
-class SrdFieldWriter : public System {
+class SrdFieldWriter : public System, public Stateful {
  public:
   SrdFieldWriter(std::array<std::int32_t, D> cells, std::int64_t every, std::int64_t window)
       : cells_(cells), every_(every), window_(std::min(window, every)) {
@@ -68,6 +70,28 @@ class SrdFieldWriter : public System {
     std::fill(theta_samples_.begin(), theta_samples_.end(), 0.0);
     std::fill(mass_total_.begin(), mass_total_.end(), 0.0);
     samples_ = 0;
+  }
+
+  // The window being averaged and the times written, so that a resumed run
+  // writes the fields the uninterrupted one would (the frames themselves
+  // come back with the file's, engine/run.cpp).
+  StateMap save_state() const override {
+    return {{"particles", particles_}, {"momentum", momentum_}, {"theta", theta_}, {"theta_samples", theta_samples_},
+            {"mass", mass_total_}, {"samples", {static_cast<double>(samples_)}}, {"times", times_}};
+  }
+  void restore_state(const StateMap& state) override {
+    const auto take = [&](const char* name, std::vector<double>& to) {
+      const auto& from = state.at(name);
+      if (from.size() != to.size()) throw std::invalid_argument(std::string("checkpoint field sums '") + name + "' have the wrong size");
+      to = from;
+    };
+    take("particles", particles_);
+    take("momentum", momentum_);
+    take("theta", theta_);
+    take("theta_samples", theta_samples_);
+    take("mass", mass_total_);
+    samples_ = static_cast<std::int64_t>(state.at("samples").at(0));
+    times_ = state.at("times");
   }
 
   // The XDMF description of the fields written so far, beside the result file.
@@ -195,10 +219,8 @@ void add_srd_fields(Run& run, std::array<std::int32_t, D> cells) {
   const Config& c = run.config();
   const auto every = c.integer("fields.every_steps");
   if (every <= 0) return;
-  if (run.resuming())
-    spdlog::warn("fields written before the checkpoint are not carried over, nor the window being averaged");
-  auto& writer = run.observe<SrdFieldWriter<D>>(std::make_shared<EverySteps>(1, 1), cells, every,
-                                                c.integer("fields.window"));
+  auto& writer = run.keep("fields", run.observe<SrdFieldWriter<D>>(std::make_shared<EverySteps>(1, 1), cells, every,
+                                                                   c.integer("fields.window")));
   run.at_finish([&writer](H5mdFile& file, const RunOutcome&) { writer.write_xdmf(file); });
 }
 

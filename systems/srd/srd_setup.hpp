@@ -75,6 +75,8 @@ inline void declare_srd_keys(ConfigSchema& s, const SrdDefaults& d) {
       .integer("fields.every_steps", 0, 0, 1000000000000,
                "steps between density, velocity and temperature fields to /fields (0: none)")
       .integer("fields.window", 10, 1, 1000000000000, "steps averaged into each field output");
+  // A finished run (output.final_checkpoint) extends with --resume --set run.steps=...
+  s.allow_change_on_resume("run.steps");
   s.unit("srd.time_step", unit::time)
       .unit("srd.temperature", unit::energy)
       .unit("srd.diameter", unit::length)

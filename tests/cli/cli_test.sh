@@ -215,7 +215,7 @@ if [[ -e "$work/cut.h5" ]]; then
   echo "FAIL: the run finished before it could be interrupted; make it longer"; failures=$((failures + 1))
 else
   [[ -e "$work/cut.h5.checkpoint" ]] || { echo "FAIL: no checkpoint written"; failures=$((failures + 1)); }
-  expect_error "other values of keys that change the physics: run.seed (checkpoint: 1, now: 2)" \
+  expect_error "other values of keys that change the physics or what was already averaged: run.seed (checkpoint: 1, now: 2)" \
     run "$scenario" "${long[@]}" --set run.seed=2 -o "$work/cut.h5" --resume
   "$granflow" run "$scenario" "${long[@]}" -o "$work/cut.h5" --resume || { echo "FAIL: resume"; failures=$((failures + 1)); }
   [[ -e "$work/cut.h5.checkpoint" ]] && { echo "FAIL: checkpoint left after a finished run"; failures=$((failures + 1)); }

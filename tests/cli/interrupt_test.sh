@@ -1,15 +1,16 @@
 #!/usr/bin/env bash
 # SIGINT stops a run at its next safe point: it exits 130, leaves no result
 # file (and no .partial), writes a checkpoint and says how to resume; the
-# same command with --resume then gives the same observables as an
-# uninterrupted run, bit for bit. One event-driven run (haff_cooling), one
-# ensemble of event-driven runs (brownian_edmd), one SDE ensemble
-# interrupted inside its only run (langevin_msd, run.runs = 1) and one
-# soft-sphere run with friction (shaken_bed: neighbour lists reordering the
-# spheres, the contacts' springs, the compartment counts and the
-# time-averaged profiles all cross the checkpoint). A run
-# interrupted while its initial state is prepared (a long elastic
-# equilibration) stops within seconds, exits 130 and leaves nothing behind.
+# same command with --resume then gives the same result as an
+# uninterrupted run, bit for bit. Event-driven (haff_cooling), an ensemble
+# of event-driven runs (brownian_edmd), an SDE ensemble interrupted inside
+# its only run (langevin_msd, run.runs = 1): their observables. Soft spheres
+# (shaken_bed with friction, vibrated_bed) and every SRD scenario, with
+# particle frames and fields on: every dataset of the file. A finished
+# soft-sphere and SRD run extended with --resume --set run.t_stop / run.steps
+# equals one run to the later stop. A run interrupted while its initial
+# state is prepared (a long elastic equilibration) stops within seconds,
+# exits 130 and leaves nothing behind.
 set -u
 granflow="$1"
 scenarios="$2"
@@ -32,20 +33,32 @@ check() {  # check NAME TOML "observables..." ARGS...
   [[ -e "$work/$name-cut.h5.checkpoint" ]] || { echo "FAIL: $name wrote no checkpoint"; failures=$((failures + 1)); return; }
   grep -q -- "--resume" "$work/$name.log" || { echo "FAIL: $name did not say how to resume"; failures=$((failures + 1)); }
   "$granflow" run "$scenarios/$toml" "$@" -q -o "$work/$name-cut.h5" --resume || { echo "FAIL: $name --resume"; failures=$((failures + 1)); return; }
-  /usr/bin/python3 - "$work/$name-whole.h5" "$work/$name-cut.h5" $observables <<'PY' || failures=$((failures + 1))
+  same_result "$work/$name-whole.h5" "$work/$name-cut.h5" $observables
+}
+
+# same_result WHOLE RESUMED [observables...]: the named observables equal,
+# or with none named, every dataset (provenance and timings aside).
+same_result() {
+  /usr/bin/python3 - "$@" <<'PY' || failures=$((failures + 1))
 import sys, h5py, numpy as np
 a, b = (h5py.File(p, "r") for p in sys.argv[1:3])
-for name in sys.argv[3:]:
-    if isinstance(a[f"/observables/{name}"], h5py.Dataset):  # time-independent
-        if not np.array_equal(a[f"/observables/{name}"][()], b[f"/observables/{name}"][()]):
-            sys.exit(f"FAIL: resumed {name} differs from the uninterrupted run")
-        continue
-    for part in ("step", "time", "value"):
-        x, y = a[f"/observables/{name}/{part}"][()], b[f"/observables/{name}/{part}"][()]
-        if not np.array_equal(x, y):
-            sys.exit(f"FAIL: resumed {name}/{part} differs from the uninterrupted run")
+names = sys.argv[3:]
+if names:
+    paths = [f"observables/{n}" + ("" if isinstance(a[f"observables/{n}"], h5py.Dataset) else f"/{part}")
+             for n in names for part in ("step", "time", "value")]
+else:
+    paths = []
+    a.visititems(lambda n, o: paths.append(n) if isinstance(o, h5py.Dataset) and not n.startswith(("provenance", "profile")) else None)
+    extra = []
+    b.visititems(lambda n, o: extra.append(n) if isinstance(o, h5py.Dataset) and not n.startswith(("provenance", "profile")) and n not in a else None)
+    if extra: sys.exit(f"FAIL: {sys.argv[2]} has datasets the uninterrupted run has not: {extra}")
+for path in dict.fromkeys(paths):
+    if path not in b: sys.exit(f"FAIL: {sys.argv[2]} lacks {path}")
+    x, y = np.asarray(a[path][()]), np.asarray(b[path][()])
+    if x.shape != y.shape or not np.array_equal(x, y):
+        sys.exit(f"FAIL: resumed {path} differs from the uninterrupted run ({x.shape} and {y.shape})")
 assert "/profile/system" in b, "no /profile"
-print(f"ok: {sys.argv[2]} interrupted and resumed equals the uninterrupted run")
+print(f"ok: {sys.argv[2]} equals the uninterrupted run in {len(paths) if names else 'every'} dataset(s)")
 PY
 }
 
@@ -55,9 +68,31 @@ DELAY=1.5 check brownian brownian_edmd.toml "msd msd_stderr time_averaged_msd er
   --set run.runs=4 --set run.t_stop=300 --set system.count=500 --set system.radius=0.03
 DELAY=1.5 check langevin langevin_msd.toml "msd time_averaged_msd ergodicity_breaking" \
   --set run.runs=1 --set run.t_stop=20 --set system.count=200000 --set msd.time_average_particles=200
-DELAY=2 check shaken shaken_bed.toml \
-  "asymmetry kinetic_energy elastic_energy energy_dissipated flux_left_to_right packing_fraction_profile_mean_left temperature_profile_mean_right" \
-  --set run.t_stop=60 --set output.average_after=10 --set contact.friction=0.5
+# Soft spheres and SRD: every dataset, particle frames and fields included.
+DELAY=2 check shaken shaken_bed.toml "" \
+  --set run.t_stop=60 --set output.average_after=10 --set contact.friction=0.5 --set output.positions=all
+DELAY=1.5 check vibrated vibrated_bed.toml "" --set system.count=4000 --set run.t_stop=10 --set output.interval=0.5 \
+  --set output.average_after=1 --set output.positions=all
+DELAY=1 check gsrd_cooling gsrd_cooling.toml "" --set 'system.cells=[16,16,16]' --set run.steps=3000 \
+  --set fields.every_steps=100
+DELAY=1 check gsrd_shaken gsrd_shaken.toml "" --set 'system.cells=[8,8,40]' --set run.steps=2500 \
+  --set fields.every_steps=100 --set fields.window=20
+DELAY=1 check srd_viscosity srd_viscosity.toml "" --set run.steps=12000 --set fields.every_steps=500
+DELAY=1 check srd_poiseuille srd_poiseuille.toml "" --set run.steps=8000 --set fields.every_steps=500
+
+# A finished run extends: the same result as one run to the later stop.
+extend() {  # extend NAME TOML STOP_KEY FIRST SECOND ARGS...
+  local name="$1" toml="$2" key="$3" first="$4" second="$5"; shift 5
+  "$granflow" run "$scenarios/$toml" "$@" --set "$key=$second" --set output.final_checkpoint=true -q \
+    -o "$work/$name-whole.h5" &&
+    "$granflow" run "$scenarios/$toml" "$@" --set "$key=$first" --set output.final_checkpoint=true -q \
+      -o "$work/$name-ext.h5" &&
+    "$granflow" run "$scenarios/$toml" "$@" --set "$key=$second" --set output.final_checkpoint=true -q \
+      -o "$work/$name-ext.h5" --resume || { echo "FAIL: $name extension"; failures=$((failures + 1)); return; }
+  same_result "$work/$name-whole.h5" "$work/$name-ext.h5"
+}
+extend shaken_ext shaken_bed.toml run.t_stop 10 20 --set output.average_after=5 --set output.positions=all
+extend cooling_ext gsrd_cooling.toml run.steps 1000 2000 --set 'system.cells=[16,16,16]' --set fields.every_steps=100
 
 preparing() {  # preparing NAME TOML ARGS...: SIGINT during the preparation
   local name="$1" toml="$2"; shift 2

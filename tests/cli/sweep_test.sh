@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # granflow sweep: the same sweep with 1 and 2 workers gives identical
 # summaries; a sweep killed with SIGKILL and run again finishes the missing
-# points and gives the same summary as an uninterrupted one; three shards
+# points and gives the same summary as an uninterrupted one; one stopped
+# with SIGINT checkpoints its runs and continues them bit for bit; three shards
 # and --collect give the same summary, and a missing shard is named; bad
 # sweep files exit with status 2 and a message naming the problem; a build
 # without MPI started as MPI ranks refuses to run.
@@ -45,6 +46,32 @@ echo "killed with $left of 8 runs complete"
 if cmp -s "$work/one/summary.csv" "$work/killed/summary.csv"; then echo "ok: resumed summary identical"
 else fail "resumed summary differs"; diff "$work/one/summary.csv" "$work/killed/summary.csv"; fi
 ls "$work/killed"/*.partial >/dev/null 2>&1 && fail "partial files left after the resumed sweep"
+
+# SIGINT stops the runs under way at a safe point (each checkpoints), exits
+# 130 and starts no more; the same command continues them: the summary and
+# every result equal an uninterrupted sweep's.
+cat > "$work/beds.toml" <<TOML
+scenario_file = "$(dirname "$scenario")/shaken_bed.toml"
+summary = ["asymmetry_abs_mean", "crossings"]
+[set]
+"run.t_stop" = 25.0
+"output.average_after" = 5.0
+[grid]
+shaking.amplitude = [0.6, 1.2]
+TOML
+"$granflow" sweep "$work/beds.toml" -j 2 -o "$work/beds" -q || fail "bed sweep exited with $?"
+"$granflow" sweep "$work/beds.toml" -j 2 -o "$work/beds_cut" -q 2> "$work/beds_cut.log" &
+pid=$!
+sleep 1
+kill -INT "$pid"; wait "$pid"; status=$?
+checkpoints=$(ls "$work/beds_cut"/*.checkpoint 2>/dev/null | wc -l)
+if [[ $status -eq 130 && $checkpoints -ge 1 ]] && grep -q "run the same command to continue" "$work/beds_cut.log"; then
+  echo "ok: SIGINT stopped the sweep with $checkpoints run(s) checkpointed"
+else fail "SIGINT to a sweep: exit $status, $checkpoints checkpoints: $(cat "$work/beds_cut.log")"; fi
+"$granflow" sweep "$work/beds.toml" -j 2 -o "$work/beds_cut" -q || fail "continued bed sweep exited with $?"
+if cmp -s "$work/beds/summary_runs.csv" "$work/beds_cut/summary_runs.csv"; then echo "ok: continued sweep identical"
+else fail "continued sweep differs"; diff "$work/beds/summary_runs.csv" "$work/beds_cut/summary_runs.csv"; fi
+ls "$work/beds_cut"/*.checkpoint >/dev/null 2>&1 && fail "checkpoints left after the continued sweep"
 
 # Shards for job arrays: 1/3, 2/3 and 3/3, then --collect, give the summary
 # of the one-machine sweep; before shard 2 has run, --collect names it and
@@ -92,6 +119,16 @@ expect_error "[zip] lists must have equal lengths" "scenario_file = \"$scenario\
 [zip]
 collision.restitution = [0.5, 0.6]
 system.count = [100]"
+expect_error "parameter point 1: unknown configuration key 'collision.restitutoin'" "scenario_file = \"$scenario\"
+[[points]]
+collision.restitution = 0.5
+[[points]]
+collision.restitutoin = 0.6"
+expect_error "'collision.restitution' is swept in both [grid] and [zip]" "scenario_file = \"$scenario\"
+[grid]
+collision.restitution = [0.5, 0.6]
+[zip]
+collision.restitution = [0.7]"
 expect_error "repeats = 0 is out of range" "scenario_file = \"$scenario\"
 repeats = 0"
 expect_error "must be a non-empty array" "scenario_file = \"$scenario\"
