@@ -71,6 +71,7 @@ void build(Run& run) {
         if (axis == 2 && side < 0) {
           w.amplitude = amplitude;
           w.omega = omega;
+          w.motion = dem::wall_motion(c.text("shaking.motion"));
         }
         walls.push_back(w);
       }
@@ -88,7 +89,8 @@ void build(Run& run) {
   const auto per_row = [&](double width) { return std::max(0, static_cast<int>(std::floor((width - 2 * radius) / spacing)) + 1); };
   const int across_y = per_row(box[1]);
   const std::array<int, 2> across_x{per_row(divider_x - 0.2 * radius), per_row(box[0] - divider_x - 0.2 * radius)};
-  const double floor_clearance = amplitude + 1.1 * radius;
+  // Above the floor's highest point (2A with the wiggle law).
+  const double floor_clearance = (c.text("shaking.motion") == "wiggle" ? 2.0 : 1.0) * amplitude + 1.1 * radius;
   const auto layers_needed = [&](int side) {
     const double per_layer = static_cast<double>(across_x[static_cast<std::size_t>(side)] * across_y);
     return per_layer > 0 ? std::ceil((static_cast<double>(n) / 2 + 1) / per_layer) : 1e300;

@@ -1,5 +1,7 @@
 // A deep bed of soft spheres on a vibrating plate, periodic sideways: the
-// floor moves as A sin(2 pi f t) under gravity along -z. By default the bed
+// floor moves as A (1 - cos 2 pi f t) under gravity along -z, from rest, as
+// LAMMPS's fix wall/gran ... wiggle moves it (shaking.motion = "sine": A
+// sin(2 pi f t) about 0). By default the bed
 // of LAMMPS's shaken-bed benchmark (a 24 x 24 box, 10 580 spheres of
 // diameter 1 and mass 1 on a simple cubic lattice of reduced density 1.05
 // filling 0 <= x, y < 22.5, 0.6 <= z < 20.5; Hookean contacts k = 2000 with
@@ -62,6 +64,7 @@ void build(Run& run) {
     floor.side = -1;
     floor.amplitude = c.real("shaking.amplitude");
     floor.omega = 2.0 * std::numbers::pi * c.real("shaking.frequency");
+    floor.motion = dem::wall_motion(c.text("shaking.motion"));
     floor.law = law_for(c, mass);
     DemWall ceiling = floor;
     ceiling.side = +1;
@@ -141,6 +144,7 @@ GRANFLOW_REGISTER_SCENARIO(vibrated_bed, Scenario{
     d.frequency = 1.0;
     d.t_stop = 10.0;
     d.output_interval = 1.0;
+    d.motion = "wiggle";
     dem::declare_dem_keys(s, d);
     s.real("contact.damping_rate", 50.0, 0.0, inf,
            "LAMMPS's gamma_n: damping force m_eff gamma_n times the normal speed (0: from contact.restitution)")

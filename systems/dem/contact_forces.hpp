@@ -318,8 +318,8 @@ class DemContactForces : public System {
           const double reach = radius[i] + nl.skin, along = nl.reference[i][w.axis];
           bool near;
           if (w.divider) near = std::abs(along - w.rest) < reach;
-          else if (w.side < 0) near = along < w.rest + std::abs(w.amplitude) + reach;
-          else near = along > w.rest - std::abs(w.amplitude) - reach;
+          else if (w.side < 0) near = along < w.centre() + std::abs(w.amplitude) + reach;
+          else near = along > w.centre() - std::abs(w.amplitude) - reach;
           if (near) list.push_back(i);
           else if (!nl.wall_shear.empty()) nl.wall_shear[i * walls + wi] = Shear{};
         }

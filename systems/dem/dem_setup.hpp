@@ -50,6 +50,7 @@ struct DemDefaults {
   double frequency = 2.5;
   double t_stop = 300.0;
   double output_interval = 1.0;
+  std::string motion = "sine";
 };
 
 inline void declare_dem_keys(ConfigSchema& s, const DemDefaults& d) {
@@ -69,8 +70,11 @@ inline void declare_dem_keys(ConfigSchema& s, const DemDefaults& d) {
       .real("contact.friction", 0.0, 0.0, inf, "Coulomb friction mu of the tangential spring (0: frictionless, no rotation)")
       .real("contact.tangential_stiffness", 2.0 / 7.0, 0.0, inf, "tangential spring k_t / k_n (with friction)")
       .real("contact.tangential_damping", 0.5, 0.0, inf, "tangential dashpot gamma_t / gamma_n (with friction)")
-      .real("shaking.amplitude", d.amplitude, 0.0, inf, "amplitude A of the floor's motion A sin(2 pi f t)")
+      .real("shaking.amplitude", d.amplitude, 0.0, inf, "amplitude A of the floor's motion (shaking.motion)")
       .real("shaking.frequency", d.frequency, 0.0, inf, "frequency f of the floor's motion")
+      .choice("shaking.motion", d.motion, {"sine", "wiggle"},
+              "the floor's motion: sine, A sin(2 pi f t) about its rest position; wiggle, A (1 - cos 2 pi f t) "
+              "above it, from rest (LAMMPS's fix wall/gran ... wiggle)")
       .real_array("gravity.acceleration", {0.0, 0.0, -1.0}, -1e300, 1e300, 3, 3, "gravity, one entry per axis")
       .real("neighbour.skin", 0.4, 0.0, inf, "Verlet skin, in sphere radii", true)
       .boolean("neighbour.reorder", true, "put the spheres in cell order at each neighbour-list build")
@@ -85,7 +89,9 @@ inline void declare_dem_keys(ConfigSchema& s, const DemDefaults& d) {
       .real("stiffness", 0.0, 0.0, inf, "its contact stiffness (0: contact.stiffness)")
       .real("restitution", 0.0, 0.0, 1.0, "its restitution (0: contact.restitution)")
       .real("amplitude", 0.0, 0.0, inf, "amplitude of its motion along its normal")
-      .real("frequency", 0.0, 0.0, inf, "frequency of that motion");
+      .real("frequency", 0.0, 0.0, inf, "frequency of that motion")
+      .choice("motion", "sine", {"sine", "wiggle"},
+              "sine: position + A sin(2 pi f t); wiggle: position + A (1 - cos 2 pi f t), from rest (LAMMPS's wiggle)");
   wall.unit("position", unit::length).unit("stiffness", "M T-2").unit("amplitude", unit::length).unit("frequency", unit::rate)
       .unit("restitution", unit::none);
   s.table_array("walls", std::move(wall), 0, 16, "walls (default: the scenario's, the floor shaking)");
@@ -113,6 +119,8 @@ inline std::array<double, 3> box_from(const Config& c, const char* scenario) {
     throw ConfigError(fmt::format("system.box has {} entries; {} is 3D and needs 3", edges.size(), scenario));
   return {edges[0], edges[1], edges[2]};
 }
+
+inline WallMotion wall_motion(const std::string& name) { return name == "wiggle" ? WallMotion::wiggle : WallMotion::sine; }
 
 // The key that sets the pairs' damping under contact.model.
 inline std::string damping_key(const Config& c) {
@@ -151,6 +159,7 @@ inline std::vector<DemWall> walls_from(const Config& c, const std::array<double,
     w.side = w.rest < 0.5 * box[static_cast<std::size_t>(w.axis)] ? -1 : +1;
     w.amplitude = t.real("amplitude");
     w.omega = 2.0 * std::numbers::pi * t.real("frequency");
+    w.motion = wall_motion(t.text("motion"));
     w.law = law_from(c, t.real("stiffness") > 0 ? t.real("stiffness") : c.real("contact.stiffness"),
                      t.real("restitution") > 0 ? t.real("restitution") : c.real("contact.restitution"));
     walls.push_back(w);
@@ -191,8 +200,8 @@ inline DemWatch<3> wall_reach(const std::array<double, 3>& box, const std::array
   for (const DemWall& w : walls) {
     if (w.divider) continue;
     const auto a = static_cast<std::size_t>(w.axis);
-    if (w.side < 0) watch.lower[a] = std::min(watch.lower[a], w.rest - std::abs(w.amplitude));
-    else watch.upper[a] = std::max(watch.upper[a], w.rest + std::abs(w.amplitude));
+    if (w.side < 0) watch.lower[a] = std::min(watch.lower[a], w.centre() - std::abs(w.amplitude));
+    else watch.upper[a] = std::max(watch.upper[a], w.centre() + std::abs(w.amplitude));
   }
   constexpr const char* name[] = {"x", "y", "z"};
   for (std::size_t a = 0; a < 3; ++a)

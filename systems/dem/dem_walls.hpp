@@ -1,7 +1,9 @@
 #pragma once
 // Walls of a soft-sphere box, as functions of one sphere and one wall: a
 // plane perpendicular to an axis that bounds the spheres from one side and
-// may move along its normal as rest + A sin(omega t), or a divider, a thin
+// may move along its normal, as rest + A sin(omega t) (`sine`) or as
+// rest + A (1 - cos omega t) (`wiggle`: from rest at t = 0, between rest and
+// rest + 2A, the law of LAMMPS's fix wall/gran ... wiggle), or a divider, a thin
 // fixed plate perpendicular to an axis that reaches from below up to a
 // height along another axis (spheres above it pass over; its top edge is a
 // line they can touch).
@@ -13,18 +15,28 @@
 
 namespace granflow::dem {
 
+enum class WallMotion : int { sine = 0, wiggle = 1 };
+
 struct DemWall {
   int axis = 2;
   int side = -1;  // -1: spheres above it (a floor), +1: below it; ignored by a divider
   double rest = 0.0;
   double amplitude = 0.0, omega = 0.0;
+  WallMotion motion = WallMotion::sine;
   ContactLaw law;
   bool divider = false;
   int height_axis = 2;  // divider: the axis its height is measured along
   double top = 0.0;     // divider: where it ends along height_axis
 
-  GRANFLOW_HD double position(double t) const { return rest + amplitude * std::sin(omega * t); }
-  GRANFLOW_HD double velocity(double t) const { return amplitude * omega * std::cos(omega * t); }
+  GRANFLOW_HD double position(double t) const {
+    return motion == WallMotion::sine ? rest + amplitude * std::sin(omega * t)
+                                      : rest + amplitude * (1.0 - std::cos(omega * t));
+  }
+  GRANFLOW_HD double velocity(double t) const {
+    return amplitude * omega * (motion == WallMotion::sine ? std::cos(omega * t) : std::sin(omega * t));
+  }
+  // The middle of its motion: it stays within |amplitude| of it.
+  GRANFLOW_HD double centre() const { return motion == WallMotion::sine ? rest : rest + amplitude; }
 };
 
 // A sphere's contact with a wall: overlap, unit normal (pointing from the

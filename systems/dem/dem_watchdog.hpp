@@ -2,9 +2,12 @@
 // The physics watchdog of a soft-sphere run, as the event-driven gas has its
 // collapse monitor: it stops the run (exit 3) with a diagnosis when the
 // integration has failed, rather than let it write a file of nonsense.
-//  - Every step, inside the drift's own loop (no pass of its own): a
-//    position that is not finite, or a centre beyond the farthest reach of
-//    the walls along a closed axis (a sphere through a wall).
+//  - At every neighbour-list build, in the pass that bins the spheres (no
+//    pass of its own): a position that is not finite, or a centre beyond
+//    the farthest reach of the walls along a closed axis (a sphere through
+//    a wall). Either forces a build within a few steps: an escaped sphere
+//    keeps moving away from the wall that pushes it, and a position that is
+//    not finite counts as moved beyond the skin (neighbour_list.hpp).
 //  - At every output: the energy ledger (dem_energy.hpp). E(t) - E(0) must
 //    equal what the walls injected less what the contacts dissipated up to
 //    the integrator's O(dt^2); an unstable step creates energy, and a

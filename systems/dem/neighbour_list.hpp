@@ -14,7 +14,8 @@
 // give every pair's force to both its spheres, slabs of one parity at a
 // time in parallel, without atomics and in the same order on any thread
 // count. The tangential-spring history of each contact follows its
-// pair through rebuilds and reorderings.
+// pair through rebuilds and reorderings. Each build also holds the spheres
+// to the walls' reach (the watchdog, dem_watchdog.hpp).
 
 #include <tbb/parallel_for.h>
 
@@ -34,6 +35,8 @@
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
+#include "engine/run_control.hpp"
+#include "systems/dem/dem_watchdog.hpp"
 #include "systems/dem/nearest_image.hpp"
 #include "systems/dem/thread_domains.hpp"
 
@@ -201,16 +204,19 @@ double largest_displacement_squared(const Vec<D>* x, const NeighbourList<D>& nl,
       const double e = nearest_image(x[i][k] - nl.reference[i][k], box.length[k], half[k]);
       d2 += e * e;
     }
-    most = std::max(most, d2);
+    // A position that is not finite counts as the largest move: it forces
+    // a build, where the watchdog finds it.
+    most = d2 < most ? most : d2;
   }
   return most;
 }
 
 // largest = max(largest, value), from any thread: a maximum is the same
-// whichever gets there first.
+// whichever gets there first. NaN wins, as above.
 inline void raise_to(std::atomic<double>& largest, double value) {
   double seen = largest.load(std::memory_order_relaxed);
-  while (value > seen && !largest.compare_exchange_weak(seen, value, std::memory_order_relaxed)) {
+  while (!(value <= seen) && !std::isnan(seen) &&
+         !largest.compare_exchange_weak(seen, value, std::memory_order_relaxed)) {
   }
 }
 
@@ -221,8 +227,8 @@ class DemNeighbourList : public System {
   Access access() const override {
     // A build may reorder every column (World::permute).
     return Access{}
-        .reads<Clock, Radius, DemBox<D>>()
-        .template writes<Position<D>, NeighbourList<D>>()
+        .reads<Clock, Radius, DemBox<D>, DemWatch<D>>()
+        .template writes<Position<D>, NeighbourList<D>, RunControl>()
         .writes_every_component();
   }
 
@@ -235,14 +241,14 @@ class DemNeighbourList : public System {
   // the drift's figure of this step where it gave one, else measured here.
   static bool moved_too_far(const World& world, const NeighbourList<D>& nl) {
     const double limit = 0.25 * nl.skin * nl.skin;
-    if (nl.displacement_step == world.resource<Clock>().step) return nl.displacement_squared > limit;
+    if (nl.displacement_step == world.resource<Clock>().step) return !(nl.displacement_squared <= limit);
     const auto& x = world.component<Position<D>>();
     const auto& box = world.resource<DemBox<D>>();
     std::atomic<double> largest{0.0};
     for_each_sphere_run(sphere_domains<D>(world), [&](std::size_t, std::size_t from, std::size_t to) {
       raise_to(largest, largest_displacement_squared(x.values.data(), nl, box, from, to));
     });
-    return largest > limit;
+    return !(largest <= limit);
   }
 
   static void build(World& world, NeighbourList<D>& nl) {
@@ -274,11 +280,26 @@ class DemNeighbourList : public System {
       per_length[k] = cells[k] / box.length[k];
       cell_count *= static_cast<std::size_t>(cells[k]);
     }
-    // Counting sort of the spheres by cell.
+    // Counting sort of the spheres by cell; the same pass holds every
+    // position to the walls' reach (dem_watchdog.hpp). A sphere through a
+    // wall or not finite moves on (or is NaN) and so forces a build soon:
+    // checked here, the watchdog costs the step nothing.
     std::vector<std::uint32_t> cell(n), start(cell_count + 1, 0), members(n);
+    std::atomic<bool> escaped{false};
     {
       const auto& x = world.component<Position<D>>();
+      std::array<double, D> lower, upper;
+      lower.fill(-std::numeric_limits<double>::infinity());
+      upper.fill(std::numeric_limits<double>::infinity());
+      if (world.has_resource<DemWatch<D>>()) {
+        lower = world.resource<DemWatch<D>>().lower;
+        upper = world.resource<DemWatch<D>>().upper;
+      }
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
+        bool inside = true;
+        for (std::size_t i = r.begin(); i != r.end(); ++i)
+          for (int k = 0; k < D; ++k) inside &= (x[i][k] >= lower[k]) & (x[i][k] <= upper[k]);  // false for NaN
+        if (!inside) escaped.store(true, std::memory_order_relaxed);
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
           std::size_t c = 0;
           for (int k = 0; k < D; ++k) {
@@ -422,6 +443,7 @@ class DemNeighbourList : public System {
     nl.domains = balanced_domains(nl.slabs, nl.offsets, domain_threads());
     nl.reference.assign(x.values.begin(), x.values.end());
     ++nl.builds;
+    if (escaped) report_escaped_sphere<D>(world);
   }
 
  private:

@@ -6,8 +6,6 @@
 // of their own (unwrapped relative to the current ones, so that a sphere
 // crossing a periodic boundary keeps its displacement).
 
-#include <atomic>
-
 #include "components/clock.hpp"
 #include "components/force.hpp"
 #include "components/mass.hpp"
@@ -17,8 +15,6 @@
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
-#include "engine/run_control.hpp"
-#include "systems/dem/dem_watchdog.hpp"
 #include "systems/dem/neighbour_list.hpp"
 
 namespace granflow::dem {
@@ -37,8 +33,8 @@ class DemPositionVerlet : public System {
   explicit DemPositionVerlet(double dt) : dt_(dt) {}
   std::string name() const override { return "dem_position_verlet"; }
   Access access() const override {
-    return Access{}.reads<Force<D>, Mass, DemBox<D>, NeighbourList<D>, DemWatch<D>>()
-        .template writes<Position<D>, Velocity<D>, PreviousPosition<D>, Clock, RunControl>();
+    return Access{}.reads<Force<D>, Mass, DemBox<D>, NeighbourList<D>>()
+        .template writes<Position<D>, Velocity<D>, PreviousPosition<D>, Clock>();
   }
 
   // The previous positions of a start from x and v: x - v dt + F dt^2 / 2m,
@@ -63,23 +59,17 @@ class DemPositionVerlet : public System {
     const auto& f = world.component<Force<D>>();
     const auto& m = world.component<Mass>();
     const auto& box = world.resource<DemBox<D>>();
-    const auto& watch = world.resource<DemWatch<D>>();
     const double dt = dt_;
-    std::atomic<bool> escaped{false};
     const ThreadDomains domains = sphere_domains<D>(world);
     for_each_sphere_run(domains, [&](std::size_t, std::size_t from, std::size_t to) {
-      bool inside = true;
       for (std::size_t i = from; i < to; ++i) {
         const Vec<D> next = 2.0 * x[i] - previous[i] + (dt * dt / m[i]) * f[i];
         v[i] = (next - x[i]) / dt;
         previous[i] = x[i];
         x[i] = next;
         previous[i] -= box.wrap(x[i]);
-        for (int a = 0; a < D; ++a) inside &= (x[i][a] >= watch.lower[a]) & (x[i][a] <= watch.upper[a]);
       }
-      if (!inside) escaped.store(true, std::memory_order_relaxed);
     });
-    if (escaped) report_escaped_sphere<D>(world);
   }
 
  private:

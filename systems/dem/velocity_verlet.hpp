@@ -6,8 +6,7 @@
 // bounded and scales as dt^2. The dampers see the half-step velocity. Where
 // the spheres rotate (tangential friction), both kicks also turn their
 // angular velocity by T dt / 2I with I = (2/5) m r^2, the moment of inertia
-// of a solid sphere. The drift also holds every new position to the walls'
-// reach (dem_watchdog.hpp): a sphere beyond it, or not finite, stops the run.
+// of a solid sphere.
 
 #include <array>
 #include <atomic>
@@ -23,8 +22,6 @@
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
-#include "engine/run_control.hpp"
-#include "systems/dem/dem_watchdog.hpp"
 #include "systems/dem/neighbour_list.hpp"
 
 namespace granflow::dem {
@@ -55,8 +52,8 @@ class DemKickDrift : public System {
   std::string name() const override { return "dem_kick_drift"; }
   Access access() const override {
     return Access{}
-        .reads<Force<D>, Torque, Mass, Radius, DemBox<D>, NeighbourList<D>, DemWatch<D>>()
-        .template writes<Position<D>, Velocity<D>, AngularVelocity, Clock, NeighbourList<D>, RunControl>();
+        .reads<Force<D>, Torque, Mass, Radius, DemBox<D>, NeighbourList<D>>()
+        .template writes<Position<D>, Velocity<D>, AngularVelocity, Clock, NeighbourList<D>>();
   }
   void run(World& world) override {
     auto& clock = world.resource<Clock>();
@@ -70,13 +67,10 @@ class DemKickDrift : public System {
     const double dt = dt_;
     // A sphere moves much less than a box length per step: one compare and
     // select each way puts it back, without a branch.
-    std::array<double, D> length{}, period{}, lower{}, upper{};
-    const auto& watch = world.resource<DemWatch<D>>();
+    std::array<double, D> length{}, period{};
     for (int a = 0; a < D; ++a) {
       length[a] = box.length[a];
       period[a] = box.periodic[a] ? box.length[a] : 0.0;
-      lower[a] = watch.lower[a];
-      upper[a] = watch.upper[a];
     }
     double* const xs = x.values.data()->data();
     double* const vs = v.values.data()->data();
@@ -87,10 +81,8 @@ class DemKickDrift : public System {
     NeighbourList<D>* nl = world.has_resource<NeighbourList<D>>() ? &world.resource<NeighbourList<D>>() : nullptr;
     if (nl && !(nl->built() && nl->reference.size() == world.size())) nl = nullptr;
     std::atomic<double> moved{0.0};
-    std::atomic<bool> escaped{false};
     const ThreadDomains domains = sphere_domains<D>(world);
     for_each_sphere_run(domains, [&](std::size_t, std::size_t from, std::size_t to) {
-      bool inside = true;
       for (std::size_t i = from; i < to; ++i) {
         const double kick = 0.5 * dt / m[i];
         for (int a = 0; a < D; ++a) {
@@ -100,11 +92,8 @@ class DemKickDrift : public System {
           p += p < 0.0 ? period[a] : 0.0;
           p -= p >= length[a] ? period[a] : 0.0;
           xs[k] = p;
-          // False for NaN too.
-          inside &= (p >= lower[a]) & (p <= upper[a]);
         }
       }
-      if (!inside) escaped.store(true, std::memory_order_relaxed);
       if (nl) raise_to(moved, largest_displacement_squared(x.values.data(), *nl, box, from, to));
     });
     if (nl) {
@@ -112,7 +101,6 @@ class DemKickDrift : public System {
       nl->displacement_step = clock.step;
     }
     kick_rotation<D>(world, dt);
-    if (escaped) report_escaped_sphere<D>(world);
   }
 
  private:

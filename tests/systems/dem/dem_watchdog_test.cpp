@@ -1,6 +1,7 @@
 // The soft-sphere watchdog and the stability limits behind the time step:
-// a sphere driven through a wall, or with a position that is not finite,
-// stops the run with a diagnosis naming it; an energy ledger that no longer
+// a sphere driven through a wall, or with a position that is not finite
+// (which forces a neighbour-list build), stops the run at the build with a
+// diagnosis naming it; an energy ledger that no longer
 // balances stops it, one that balances does not; a closed axis without a
 // wall on each side is refused. The contact time scales agree with the
 // spring-dashpot formula and, for Hertz, with a direct integration of
@@ -25,6 +26,7 @@
 #include "engine/world.hpp"
 #include "systems/dem/dem_setup.hpp"
 #include "systems/dem/dem_watchdog.hpp"
+#include "systems/dem/neighbour_list.hpp"
 #include "systems/dem/stability_limits.hpp"
 #include "systems/dem/velocity_verlet.hpp"
 
@@ -57,27 +59,38 @@ struct OneSphere {
       }
     auto& watch = world.emplace_resource<DemWatch<3>>(wall_reach(box.length, box.periodic, walls));
     watch.advice = "ADVICE";
+    world.emplace_resource<NeighbourList<3>>().skin = 0.2;
   }
   const RunControl& control() { return world.resource<RunControl>(); }
 };
 
-TEST(DemWatchdog, ASphereThroughTheFloorStopsTheRunNamingIt) {
+TEST(DemWatchdog, ASphereThroughTheFloorStopsTheRunAtTheNextBuild) {
   OneSphere s;
   s.world.component<Velocity<3>>()[0] = Vec<3>(0.0, 0.0, -30.0);
   DemKickDrift<3> drift(0.01);
-  for (int step = 0; step < 3 && !s.control().stop; ++step) drift.run(s.world);
+  DemNeighbourList<3> lists;
+  for (int step = 0; step < 3; ++step) {
+    drift.run(s.world);
+    lists.run(s.world);  // the sphere moves 0.3 a step: a build every step
+  }
   EXPECT_FALSE(s.control().stop) << "at z = 0.1 the centre is still above the floor";
   drift.run(s.world);
+  lists.run(s.world);
   ASSERT_TRUE(s.control().failed);
   EXPECT_NE(s.control().reason.find("sphere 7 went through a wall: z = -0.2"), std::string::npos) << s.control().reason;
   EXPECT_NE(s.control().reason.find("ADVICE"), std::string::npos);
   EXPECT_NE(s.control().reason.find("t = 0.04"), std::string::npos) << s.control().reason;
 }
 
-TEST(DemWatchdog, APositionThatIsNotFiniteStopsTheRun) {
+TEST(DemWatchdog, APositionThatIsNotFiniteForcesABuildThatStopsTheRun) {
   OneSphere s;
+  DemNeighbourList<3> lists;
+  lists.run(s.world);
+  ASSERT_FALSE(s.control().stop);
   s.world.component<Force<3>>()[0] = Vec<3>(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0);
   DemKickDrift<3>(0.01).run(s.world);
+  EXPECT_TRUE(DemNeighbourList<3>::moved_too_far(s.world, s.world.resource<NeighbourList<3>>()));
+  lists.run(s.world);
   ASSERT_TRUE(s.control().failed);
   EXPECT_NE(s.control().reason.find("sphere 7 has a position that is not finite (x = nan)"), std::string::npos)
       << s.control().reason;
