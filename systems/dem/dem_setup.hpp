@@ -79,7 +79,8 @@ inline void declare_dem_keys(ConfigSchema& s, const DemDefaults& d) {
       .real("neighbour.skin", 0.4, 0.0, inf, "Verlet skin, in sphere radii", true)
       .boolean("neighbour.reorder", true, "put the spheres in cell order at each neighbour-list build")
       .real("run.t_stop", d.t_stop, 0.0, inf, "simulated time to run", true)
-      .real("run.dt", 0.0, 0.0, inf, "time step (0: t_c / 50 of a sphere pair)")
+      .real("run.dt", 0.0, 0.0, inf,
+            "time step (0: a fiftieth of the shortest collision; checked against every contact, docs/dem.md)")
       .choice("run.integrator", "velocity_verlet", {"velocity_verlet", "position_verlet"},
               "velocity Verlet, or position Verlet with the backward-difference velocity")
       .real("output.interval", d.output_interval, 0.0, inf, "time between outputs", true);
@@ -265,6 +266,16 @@ inline double add_dem_step(Run& run, const std::array<double, 3>& box, const std
   const auto& g = c.reals("gravity.acceleration");
   if (g.size() != 3) throw ConfigError(fmt::format("gravity.acceleration has {} entries; it needs 3", g.size()));
   auto& watch = world.emplace_resource<DemWatch<D>>(wall_reach(box, periodic, walls));
+  {
+    const auto& x = world.component<Position<D>>();
+    for (std::size_t i = 0; i < world.size(); ++i)
+      for (std::size_t a = 0; a < 3; ++a)
+        if (!(x[i][a] >= watch.lower[a] && x[i][a] <= watch.upper[a]))
+          throw ConfigError(fmt::format(
+              "the walls leave sphere {} of the initial state outside them ({} = {:.6g}, the walls reach [{:.6g}, "
+              "{:.6g}]); check walls and system.box",
+              i, "xyz"[a], x[i][a], watch.lower[a], watch.upper[a]));
+  }
   const auto& masses = world.component<Mass>().values;
   const double lightest = masses.empty() ? 1.0 : *std::min_element(masses.begin(), masses.end());
   std::vector<ContactCase> cases{{"sphere-sphere", law, 0.5 * lightest, "contact.stiffness", damping_key}};

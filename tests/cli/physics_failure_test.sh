@@ -70,6 +70,9 @@ expect_status 2 "bed.lattice_density = 1e+308 over bed.fill gives inf lattice si
 expect_status 2 "layers of spheres of particle.radius = 1e-100" run "$deep" -q --set particle.radius=1e-100 -o "$work/x.h5md"
 expect_status 2 "walls: the box is closed along x but has no wall on its lower side" run "$bed" "${tiny[@]}" \
   --set 'walls=[{axis="z",position=0.0,amplitude=0.5,frequency=2.5}]' -o "$work/x.h5md"
+expect_status 2 "the walls leave sphere 0 of the initial state outside them (z = " run "$bed" "${tiny[@]}" \
+  --set 'walls=[{axis="x",position=0.0},{axis="x",position=20.0},{axis="y",position=0.0},{axis="y",position=4.0},{axis="z",position=10.0},{axis="z",position=40.0}]' \
+  -o "$work/x.h5md"
 expect_status 2 "system.box = [1.5, 1.5, 1.5] is too small" run "$bed" "${tiny[@]}" --set 'system.box=[1.5,1.5,1.5]' \
   -o "$work/x.h5md"
 expect_status 2 "shaking.amplitude = 1e+308 exceeds a quarter of the box height" run "$bed" "${tiny[@]}" \
