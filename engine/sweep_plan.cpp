@@ -100,15 +100,21 @@ SweepPlan read_sweep_plan(const std::string& sweep_file, const std::string& outp
       if (row[k].empty()) row[k] = to_string(config.values().at(plan.swept_keys[k]));
     plan.parameter_values.push_back(row);
     const std::int64_t base_seed = base.schema().find("run.seed") ? config.integer("run.seed") : 0;
-    for (std::size_t r = 0; r < plan.repeats; ++r) {
-      SweepRun run{p, r, repeat_seed(base_seed, r), config, {}};
-      if (plan.repeats > 1) run.config.set("run.seed", run.seed);
-      run.cost = run_cost(run.config, plan.cost_keys, sweep_file);
-      run.output = plan.directory / fmt::format("p{:0{}}_r{:02}.h5md", p, digits, r);
-      plan.runs.push_back(std::move(run));
-    }
+    // The seed does not change what a run costs.
+    const double cost = run_cost(config, plan.cost_keys, sweep_file);
+    for (std::size_t r = 0; r < plan.repeats; ++r)
+      plan.runs.push_back(
+          {p, r, repeat_seed(base_seed, r), plan.directory / fmt::format("p{:0{}}_r{:02}.h5md", p, digits, r), cost});
+    plan.point_configs.push_back(std::move(config));
   }
   return plan;
+}
+
+Config SweepPlan::run_config(std::size_t k) const {
+  const SweepRun& run = runs.at(k);
+  Config config = point_configs.at(run.parameter_point);
+  if (repeats > 1) config.set("run.seed", run.seed);
+  return config;
 }
 
 }  // namespace granflow

@@ -14,11 +14,13 @@
 
 namespace granflow {
 
+// One run: a parameter point's configuration with its repeat's seed. The
+// configuration is the plan's (SweepPlan::run_config), kept once per point:
+// a plan of a million runs then costs a few hundred bytes a run.
 struct SweepRun {
   std::size_t parameter_point;  // index into SweepPlan::parameter_values
   std::size_t repeat;
   std::int64_t seed;
-  Config config;
   std::filesystem::path output;
   double cost = 1.0;  // expected, relative: the product of the plan's cost keys
 };
@@ -33,7 +35,11 @@ struct SweepPlan {
   std::size_t repeats = 1;
   std::vector<std::string> summary;
   std::vector<std::string> cost_keys;
-  std::vector<SweepRun> runs;  // parameter point major, repeat minor
+  std::vector<Config> point_configs;  // per parameter point, before the repeat's seed
+  std::vector<SweepRun> runs;          // parameter point major, repeat minor
+
+  // The whole configuration of run k.
+  Config run_config(std::size_t k) const;
 };
 
 // output_directory, when not empty, replaces the file's `output`.

@@ -285,9 +285,15 @@ int on_rank_zero(int rank, Work&& work) {
 // One number that differs when two ranks read different sweeps (a file
 // edited between nodes' reads, or another version on another node).
 unsigned long long plan_fingerprint(const SweepPlan& plan) {
-  std::string text = plan.directory.string();
-  for (const auto& run : plan.runs) text += run.output.string() + '\n' + run.config.to_toml();
-  return std::hash<std::string>{}(text);
+  // Combined piece by piece: a million runs need no text of them all.
+  std::size_t hash = std::hash<std::string>{}(plan.directory.string());
+  const auto mix = [&](std::size_t piece) { hash ^= piece + 0x9e3779b97f4a7c15ull + (hash << 6) + (hash >> 2); };
+  for (const auto& config : plan.point_configs) mix(std::hash<std::string>{}(config.to_toml()));
+  for (const auto& run : plan.runs) {
+    mix(std::hash<std::string>{}(run.output.string()));
+    mix(static_cast<std::size_t>(run.seed));
+  }
+  return hash;
 }
 
 class MpiSession {

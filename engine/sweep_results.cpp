@@ -198,7 +198,8 @@ std::filesystem::path status_path(const SweepRun& run) { return run.output.strin
 
 }  // namespace
 
-bool finished(const SweepRun& run) {
+bool finished(const SweepPlan& plan, std::size_t k) {
+  const SweepRun& run = plan.runs[k];
   if (!std::filesystem::exists(run.output)) return false;
   std::string stored;
   try {
@@ -207,7 +208,7 @@ bool finished(const SweepRun& run) {
     throw ConfigError(fmt::format("{} exists but is not a readable result file; delete it to rerun that point",
                                   run.output.string()));
   }
-  if (stored != run.config.to_toml())
+  if (stored != plan.run_config(k).to_toml())
     throw ConfigError(fmt::format("{} was written with a different configuration than this sweep asks for; delete "
                                   "it or choose another output directory",
                                   run.output.string()));

@@ -17,7 +17,7 @@ namespace granflow {
 // The run's result file exists and was written with its configuration;
 // ConfigError where a file is there but unreadable or from other settings,
 // so that results of two sweeps are never mixed.
-bool finished(const SweepRun& run);
+bool finished(const SweepPlan& plan, std::size_t k);
 
 // Summary names are checked against the first result file at hand, so that a
 // misspelt name stops the sweep after one run rather than after all of them.

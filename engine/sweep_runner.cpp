@@ -109,7 +109,9 @@ SweepWork survey_sweep(const SweepPlan& plan, const SweepOptions& options) {
   }
   work.status.assign(plan.runs.size(), "pending");
   for (std::size_t k = 0; k < plan.runs.size(); ++k) {
-    if (finished(plan.runs[k]))
+    // A shard looks only at its own runs; --collect at every run.
+    if (!work.mine[k] && !options.collect) continue;
+    if (finished(plan, k))
       work.status[k] = recorded_status(plan.runs[k]).value_or("done");
     else if (options.collect)
       work.status[k] = recorded_status(plan.runs[k]) == "failed" ? "failed" : "missing";
@@ -125,7 +127,7 @@ SweepWork survey_sweep(const SweepPlan& plan, const SweepOptions& options) {
   // Names are checked against a result already there, if any (another
   // shard's counts as well).
   for (std::size_t k = 0; k < plan.runs.size() && !work.summary_checked; ++k)
-    if (work.status[k] != "pending" && std::filesystem::exists(plan.runs[k].output)) {
+    if ((work.status[k] != "pending" || !work.mine[k]) && std::filesystem::exists(plan.runs[k].output)) {
       check_summary_names(plan, plan.runs[k].output);
       work.summary_checked = true;
     }
@@ -157,7 +159,8 @@ std::string execute_sweep_run(const SweepPlan& plan, std::size_t k, const Interr
     // handing work to slots that are busy with other runs.
     int code = 0;
     tbb::task_arena one_thread(1);
-    one_thread.execute([&] { code = run_scenario(*scenario_registry().find(plan.scenario), run.config, run_options); });
+    const Config config = plan.run_config(k);
+    one_thread.execute([&] { code = run_scenario(*scenario_registry().find(plan.scenario), config, run_options); });
     if (guard && code == exit_interrupted(guard->signal_number())) return "interrupted";
     outcome = code == 0 ? "done" : fmt::format("stopped (exit {})", code);
   } catch (const std::exception& error) {

@@ -32,7 +32,8 @@ export GRANFLOW_SLOWDOWN=8
 if $ci; then
   unit_tests=(appendix_b_test inelastic_collapse_test event_calendar_test config_test schedule_test rng_test
               random_placement_test multiple_tau_msd_test sweep_plan_test sde_kernel_test srd_step_test key_units_test
-              pair_kernel_test thread_domains_test contact_search_test occupied_cells_test)
+              pair_kernel_test thread_domains_test contact_search_test occupied_cells_test dem_watchdog_test
+              dem_walls_test trigger_test)
   cmake --build "$build" --target granflow_cli "${unit_tests[@]}"
   # Not the two million-collision energy checks (AppendixB3): over three
   # minutes here for what the other EDMD unit tests cover; the

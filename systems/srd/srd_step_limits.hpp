@@ -7,7 +7,8 @@
 //  - move at most 10^6 cells in a step (beyond, x + v dt loses the cell);
 //  - between walls, cross the channel at most a quarter of the reflections a
 //    step may have (srd_walls.hpp): the streaming is exact only within them.
-// Lees-Edwards shear and walls of any origin do not combine.
+// Lees-Edwards shear and walls of any origin do not combine; a temperature
+// below 1e-150 (its fourth moments underflow) is refused.
 
 #include <fmt/format.h>
 
@@ -43,6 +44,15 @@ void check_srd_step(const Config& c, const std::array<std::int32_t, D>& cells, c
     g = std::max(g, std::abs(force.acceleration[a]));
     longest = std::max(longest, static_cast<double>(cells[a]));
   }
+  // Below this the fourth moments of the velocities (Sonine a2, the
+  // temperature's spread) underflow: a fluid that cold is at rest in any
+  // reduced units.
+  constexpr double coldest = 1e-150;
+  for (const char* key : {"srd.temperature", "thermostat.temperature"})
+    if (c.real(key) > 0.0 && c.real(key) < coldest)
+      throw ConfigError(fmt::format("{} = {:.4g} is below {:.0e}: the fluid's velocity moments underflow; choose a "
+                                    "temperature nearer 1 in reduced units",
+                                    key, c.real(key), coldest));
   const double fast = 8.0 * std::sqrt(hottest) + rate * (D >= 2 ? cells[1] : 0) + 2.0 * wall_speed +
                       std::sqrt(2.0 * g * longest) + (walls.empty() ? g * dt * steps : g * dt);
   const double moved = fast * dt;

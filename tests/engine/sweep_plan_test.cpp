@@ -51,14 +51,16 @@ system.boundary = ["periodic", "reflecting"]
   const auto& last = plan.runs.back();
   EXPECT_EQ(last.parameter_point, 7u);
   EXPECT_EQ(last.repeat, 1u);
-  EXPECT_EQ(last.config.integer("system.count"), 300);
-  EXPECT_DOUBLE_EQ(last.config.real("collision.restitution"), 0.5);
-  EXPECT_EQ(last.config.text("system.boundary"), "reflecting");
+  const Config last_config = plan.run_config(plan.runs.size() - 1);
+  EXPECT_EQ(last_config.integer("system.count"), 300);
+  EXPECT_DOUBLE_EQ(last_config.real("collision.restitution"), 0.5);
+  EXPECT_EQ(last_config.text("system.boundary"), "reflecting");
   EXPECT_EQ(last.output, std::filesystem::path("out") / "p007_r01.h5md");
   // Repeat 0 keeps the base seed; others differ from it and from each other, reproducibly.
   std::set<std::int64_t> seeds;
-  for (const auto& run : plan.runs) {
-    EXPECT_EQ(run.config.integer("run.seed"), run.seed);
+  for (std::size_t k = 0; k < plan.runs.size(); ++k) {
+    const auto& run = plan.runs[k];
+    EXPECT_EQ(plan.run_config(k).integer("run.seed"), run.seed);
     if (run.repeat == 0) {
       EXPECT_EQ(run.seed, 1);
     }
