@@ -86,6 +86,12 @@ expect_status 2 "srd.time_step = 1e+308 moves a fast particle" run "$scenarios/g
 expect_status 2 "a double cannot hold" run "$scenarios/srd_viscosity.toml" -q --set thermostat.temperature=1e308 \
   -o "$work/x.h5md"
 
+# A key that shaped what was already averaged may not change on resume.
+"$granflow" run "$bed" "${tiny[@]}" --set output.final_checkpoint=true -o "$work/avg.h5md" \
+  || { echo "FAIL: shaken_bed with a final checkpoint"; failures=$((failures + 1)); }
+expect_status 2 "output.average_after (checkpoint: 1.0, now: 1.5)" run "$bed" "${tiny[@]}" \
+  --set output.final_checkpoint=true --set output.average_after=1.5 --set run.t_stop=3 -o "$work/avg.h5md" --resume
+
 # What the pre-checks let through runs to a sane end: a huge, empty box
 # (the cell grid is bounded), restitution near 0 (the step follows the dashpot).
 for extreme in 'system.box=[1e9,4,40]' contact.restitution=1e-30; do
