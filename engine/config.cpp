@@ -231,30 +231,24 @@ ConfigSchema& ConfigSchema::text(const std::string& key, const std::string& def,
 }
 
 ConfigSchema& ConfigSchema::unit(const std::string& key, const std::string& unit) {
+  declared(key, "unit").unit = unit;
+  return *this;
+}
+
+KeySpec& ConfigSchema::declared(const std::string& key, const char* who) {
   for (auto& spec : keys_)
-    if (spec.key == key) {
-      spec.unit = unit;
-      return *this;
-    }
-  throw std::logic_error("unit: no key " + key);
+    if (spec.key == key) return spec;
+  throw std::logic_error(std::string(who) + ": no key " + key);
 }
 
 ConfigSchema& ConfigSchema::allow_change_on_resume(const std::string& key) {
-  for (auto& spec : keys_)
-    if (spec.key == key) {
-      spec.resume_may_change = true;
-      return *this;
-    }
-  throw std::logic_error("allow_change_on_resume: no key " + key);
+  declared(key, "allow_change_on_resume").resume_may_change = true;
+  return *this;
 }
 
 ConfigSchema& ConfigSchema::fixed_on_resume(const std::string& key) {
-  for (auto& spec : keys_)
-    if (spec.key == key) {
-      spec.resume_fixed = true;
-      return *this;
-    }
-  throw std::logic_error("fixed_on_resume: no key " + key);
+  declared(key, "fixed_on_resume").resume_fixed = true;
+  return *this;
 }
 
 ConfigSchema& ConfigSchema::real_array(const std::string& key, std::vector<double> def, double min, double max,

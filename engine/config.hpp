@@ -92,6 +92,8 @@ class ConfigSchema {
 
  private:
   ConfigSchema& add(KeySpec spec);
+  // The declared key, for a setter named `who` (a logic error if undeclared).
+  KeySpec& declared(const std::string& key, const char* who);
   std::vector<KeySpec> keys_;
 };
 

@@ -37,6 +37,11 @@ class ObservableStore {
     s.value = std::move(value);
     s.fresh = true;
   }
+  // A scalar observable's latest value (0 before it was first set).
+  double scalar(const std::string& name) {
+    const auto& value = slot(name).value;
+    return value.empty() ? 0.0 : value[0];
+  }
   bool declared(const std::string& name) const { return slots_.count(name) != 0; }
   std::map<std::string, ObservableSlot>& slots() { return slots_; }
   const std::map<std::string, ObservableSlot>& slots() const { return slots_; }

@@ -13,8 +13,8 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
-#include <map>
 #include <limits>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -23,7 +23,6 @@
 
 #include "components/clock.hpp"
 #include "engine/config.hpp"
-#include "engine/h5md_file.hpp"
 #include "engine/observable_recorder.hpp"
 #include "engine/observable_store.hpp"
 #include "engine/output_file.hpp"

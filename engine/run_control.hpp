@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 
 namespace granflow {
 
@@ -24,6 +25,12 @@ struct RunControl {
   // may return early, at a point where its state can be saved.
   const std::atomic<bool>* interrupt = nullptr;
   bool interrupted() const { return interrupt && interrupt->load(std::memory_order_relaxed); }
+  // Stops the run on a physical failure; the first failure's reason stands.
+  void fail(std::string why) {
+    if (failed) return;
+    stop = failed = true;
+    reason = std::move(why);
+  }
 };
 
 }  // namespace granflow

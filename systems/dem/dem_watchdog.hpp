@@ -50,13 +50,9 @@ struct DemWatch {
 // Stops the run with `what` (at the clock's time) and the advice.
 template <int D>
 void fail_run(World& world, const std::string& what) {
-  auto& control = world.resource<RunControl>();
-  if (control.failed) return;
   const auto& clock = world.resource<Clock>();
-  control.stop = true;
-  control.failed = true;
-  control.reason = fmt::format("the soft-sphere integration failed at t = {:.6g} (step {}): {}. {}", clock.time,
-                               clock.step, what, world.resource<DemWatch<D>>().advice);
+  world.resource<RunControl>().fail(fmt::format("the soft-sphere integration failed at t = {:.6g} (step {}): {}. {}",
+                                                clock.time, clock.step, what, world.resource<DemWatch<D>>().advice));
 }
 
 // Called when the drift found a sphere out of bounds: names the first one.
@@ -98,13 +94,9 @@ class DemEnergyWatch : public System, public Stateful {
   }
   void run(World& world) override {
     auto& store = world.resource<ObservableStore>();
-    const auto value = [&](const char* name) {
-      const auto& v = store.slot(name).value;
-      return v.empty() ? 0.0 : v[0];
-    };
-    const double kinetic = value("kinetic_energy"), potential = value("potential_energy");
-    const double elastic = value("elastic_energy"), injected = value("energy_injected");
-    const double dissipated = value("energy_dissipated");
+    const double kinetic = store.scalar("kinetic_energy"), potential = store.scalar("potential_energy");
+    const double elastic = store.scalar("elastic_energy"), injected = store.scalar("energy_injected");
+    const double dissipated = store.scalar("energy_dissipated");
     const double energy = kinetic + potential + elastic;
     if (!std::isfinite(energy) || !std::isfinite(injected) || !std::isfinite(dissipated))
       return fail_run<D>(world, fmt::format("the energy is not finite (kinetic {}, potential {}, elastic {})", kinetic,

@@ -297,12 +297,10 @@ class DemNeighbourList : public System {
       }
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
         bool inside = true;
-        for (std::size_t i = r.begin(); i != r.end(); ++i)
-          for (int k = 0; k < D; ++k) inside &= (x[i][k] >= lower[k]) & (x[i][k] <= upper[k]);  // false for NaN
-        if (!inside) escaped.store(true, std::memory_order_relaxed);
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
           std::size_t c = 0;
           for (int k = 0; k < D; ++k) {
+            inside &= (x[i][k] >= lower[k]) & (x[i][k] <= upper[k]);  // false for NaN
             // In double first: a sphere far outside (the watchdog then stops the run) or not finite lands in an edge cell.
             const double s = std::floor(x[i][k] * per_length[k]);
             const int q = s > 0.0 ? static_cast<int>(std::min(s, static_cast<double>(cells[k] - 1))) : 0;
@@ -310,6 +308,7 @@ class DemNeighbourList : public System {
           }
           cell[i] = static_cast<std::uint32_t>(c);
         }
+        if (!inside) escaped.store(true, std::memory_order_relaxed);
       });
     }
     for (std::size_t i = 0; i < n; ++i) ++start[cell[i] + 1];

@@ -61,8 +61,7 @@ inline ContactScales contact_scales(const ContactLaw& law, double m_eff, double 
     s.spring_time = std::numbers::pi / omega;
     if (gamma > 0.0) s.damping_time = m_eff / gamma;
     s.overdamped = eta >= omega;
-    s.duration = s.overdamped ? std::numeric_limits<double>::infinity()
-                              : std::numbers::pi / std::sqrt(omega * omega - eta * eta);
+    s.duration = s.overdamped ? std::numeric_limits<double>::infinity() : law.contact_time(m_eff);
     s.overlap = std::max(speed / omega, load / k);
     return s;
   }

@@ -31,17 +31,12 @@ inline const SystemDescription watch_srd_energy_description{
     "watch_srd_energy", "stops the run when the energy ledger no longer balances to round-off"};
 
 inline void fail_srd_run(World& world, const std::string& what) {
-  auto& control = world.resource<RunControl>();
-  if (control.failed) return;
   const auto& clock = world.resource<Clock>();
-  control.stop = control.failed = true;
-  control.reason = fmt::format("the SRD run failed at t = {:.6g} (step {}): {}", clock.time, clock.step, what);
+  world.resource<RunControl>().fail(
+      fmt::format("the SRD run failed at t = {:.6g} (step {}): {}", clock.time, clock.step, what));
 }
 
-inline double observed(World& world, const char* name) {
-  const auto& value = world.resource<ObservableStore>().slot(name).value;
-  return value.empty() ? 0.0 : value[0];
-}
+inline double observed(World& world, const char* name) { return world.resource<ObservableStore>().scalar(name); }
 
 class SrdStateWatch : public System {
  public:

@@ -105,14 +105,12 @@ class SrdStreaming : public System {
       stranded += chunk_stranded_[k];
     }
     if (stranded > 0) {
-      auto& control = world.resource<RunControl>();
-      control.stop = control.failed = true;
-      control.reason = fmt::format(
+      world.resource<RunControl>().fail(fmt::format(
           "the SRD streaming failed at t = {:.6g} (step {}): {} particle(s) met the walls more than {} times in one step "
           "and could not be streamed exactly (their energy would go unbooked). A particle pressed onto a wall by the "
           "force hops 2 v / g apart, so a slow one hops without end; lower srd.time_step (now {:.4g}) or "
           "force.acceleration / shaking.gravity",
-          clock.time, clock.step, stranded, most_reflections, dt_);
+          clock.time, clock.step, stranded, most_reflections, dt_));
     }
     if (cells.record_energy) {
       double work = 0.0;
