@@ -8,6 +8,7 @@
 #include <tbb/global_control.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -18,37 +19,84 @@
 #include "engine/h5md_reader.hpp"
 #include "engine/input_error.hpp"
 #include "engine/mpi_launch.hpp"
-#include "engine/particle_export.hpp"
+#include "engine/gsd_export.hpp"
 #include "engine/provenance.hpp"
 #include "engine/runner.hpp"
 #include "engine/scenario.hpp"
 #include "engine/sweep_plan.hpp"
 #include "engine/sweep_ranks.hpp"
+#include "engine/suggestion.hpp"
 #include "engine/sweep_runner.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/version.hpp"
+#include "engine/xdmf_export.hpp"
+#include "engine/xyz_export.hpp"
 
 namespace granflow {
 
 namespace {
 
-std::string known_scenarios() {
-  std::string known;
-  for (const auto* s : scenario_registry().all()) known += (known.empty() ? "" : ", ") + s->name;
-  return known;
+std::vector<std::string> scenario_names() {
+  std::vector<std::string> names;
+  for (const auto* s : scenario_registry().all()) names.push_back(s->name);
+  return names;
 }
 
-int run_command(const std::string& file, const std::vector<std::string>& overrides, const RunOptions& options,
-                int threads) {
+// Where the scenario files that come with granflow are: ./scenarios, then
+// beside the program (share/granflow/scenarios of an installation, or the
+// source tree's scenarios/ for a build inside it).
+std::vector<std::filesystem::path> shipped_scenario_directories() {
+  std::vector<std::filesystem::path> places{"scenarios"};
+  std::error_code error;
+  const auto program = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (!error) {
+    places.push_back(program.parent_path() / ".." / "share" / "granflow" / "scenarios");
+    places.push_back(program.parent_path() / ".." / "scenarios");
+  }
+  return places;
+}
+
+// A configuration file, or the name of a shipped one (`granflow run haff_cooling`).
+std::string scenario_file(const std::string& argument) {
+  namespace fs = std::filesystem;
+  if (fs::exists(argument)) return argument;
+  const bool bare_name = argument.find('/') == std::string::npos && fs::path(argument).extension() != ".toml";
+  const std::string stem = fs::path(argument).stem().string();
+  if (bare_name)
+    for (const auto& place : shipped_scenario_directories())
+      if (fs::exists(place / (argument + ".toml"))) return (place / (argument + ".toml")).lexically_normal().string();
+  std::vector<std::string> shipped;
+  for (const auto& place : shipped_scenario_directories())
+    if (fs::is_directory(place))
+      for (const auto& entry : fs::directory_iterator(place))
+        if (entry.path().extension() == ".toml") shipped.push_back(entry.path().stem().string());
+  std::sort(shipped.begin(), shipped.end());
+  shipped.erase(std::unique(shipped.begin(), shipped.end()), shipped.end());
+  if (const auto close = closest_name(stem, shipped))
+    throw ConfigError(fmt::format("configuration file '{}' does not exist; did you mean the shipped scenario '{}'?",
+                                  argument, *close));
+  throw ConfigError(fmt::format("configuration file '{}' does not exist{}", argument,
+                                bare_name ? " (nor a shipped scenario of that name: `granflow list` lists them)" : ""));
+}
+
+const Scenario& scenario_of_file(const std::string& file) {
   const std::string name = scenario_name_of(file);
   const Scenario* scenario = scenario_registry().find(name);
   if (!scenario)
-    throw ConfigError(fmt::format("unknown scenario '{}' in {}; known scenarios: {}", name, file, known_scenarios()));
+    throw ConfigError(fmt::format("unknown scenario '{}' in {}{}", name, file, suggestion_text(name, scenario_names(), "scenarios")));
+  return *scenario;
+}
+
+int run_command(const std::string& argument, const std::vector<std::string>& overrides, const RunOptions& options,
+                int threads) {
+  const std::string file = scenario_file(argument);
+  const Scenario& scenario = scenario_of_file(file);
+  const std::string& name = scenario.name;
   Config config = Config::from_file(scenario_registry().schema(name), file);
   for (const auto& assignment : overrides) config.apply_override(assignment);
   std::optional<tbb::global_control> limit;
   if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-  return run_scenario(*scenario, config, options);
+  return run_scenario(scenario, config, options);
 }
 
 void list_command() {
@@ -58,12 +106,35 @@ void list_command() {
   for (const auto& [name, summary] : system_catalogue()) fmt::print("  {:<33} {}\n", name, summary);
 }
 
-void keys_command(const std::string& name) {
-  if (!scenario_registry().find(name))
-    throw ConfigError(fmt::format("unknown scenario '{}'; known scenarios: {}", name, known_scenarios()));
-  for (const auto& spec : scenario_registry().schema(name).keys())
-    fmt::print("{:<40} = {:<22} # {}{}; {}\n", spec.key, to_string(spec.default_value), spec.help,
-               spec.unit.empty() || spec.unit == "1" ? "" : " [" + spec.unit + "]", spec.allowed());
+// A scenario's keys with their defaults, or, given a configuration file (or
+// a shipped scenario's name), with the values that file sets.
+void keys_command(const std::string& argument) {
+  std::string name = argument;
+  std::optional<Config> file_values;
+  const bool is_file = std::filesystem::exists(argument) || std::filesystem::path(argument).extension() == ".toml";
+  if (is_file || !scenario_registry().find(argument)) {
+    if (!is_file && argument.find('/') == std::string::npos && !std::filesystem::exists(argument)) {
+      bool shipped = false;
+      for (const auto& place : shipped_scenario_directories()) shipped |= std::filesystem::exists(place / (argument + ".toml"));
+      if (!shipped)
+        throw ConfigError(fmt::format("unknown scenario '{}'{}", argument, suggestion_text(argument, scenario_names(), "scenarios")));
+    }
+    const std::string file = scenario_file(argument);
+    name = scenario_of_file(file).name;
+    file_values = Config::from_file(scenario_registry().schema(name), file);
+    fmt::print("# {} ({}): the file's values; keys it leaves out have their defaults\n", file, name);
+  }
+  for (const auto& spec : scenario_registry().schema(name).keys()) {
+    const ConfigValue& value = file_values ? file_values->values().at(spec.key) : spec.default_value;
+    const std::string differs =
+        file_values && to_string(value) != to_string(spec.default_value) ? " (default " + to_string(spec.default_value) + ")" : "";
+    fmt::print("{:<40} = {:<22} # {}{}; {}{}\n", spec.key, to_string(value), spec.help,
+               spec.unit.empty() || spec.unit == "1" ? "" : " [" + spec.unit + "]", spec.allowed(), differs);
+  }
+}
+
+void require_result_file(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw InputError(fmt::format("result file '{}' does not exist", path));
 }
 
 void describe_result_file(const std::string& path) {
@@ -96,6 +167,7 @@ void describe_result_file(const std::string& path) {
 
 // A file that cannot be read as a result file is bad input, whatever is wrong with it.
 void info_command(const std::string& path, bool edited) {
+  require_result_file(path);
   if (const SealState seal = check_seal(path); seal == SealState::broken && !edited)
     throw InputError(fmt::format("'{}' {} (its seal does not match its contents); if you edited it on purpose, "
                                  "run `granflow info --edited {}`",
@@ -108,11 +180,14 @@ void info_command(const std::string& path, bool edited) {
 }
 
 void export_command(const std::string& path, const std::string& format, std::string output, bool edited) {
+  require_result_file(path);
   if (const SealState seal = check_seal(path); seal == SealState::broken && !edited)
     throw InputError(fmt::format("'{}' {} (its seal does not match its contents)", path, describe(seal)));
   if (output.empty()) output = std::filesystem::path(path).replace_extension(format).string();
   try {
-    const std::size_t frames = format == "xyz" ? export_extended_xyz(path, output) : export_xdmf(path, output);
+    const std::size_t frames = format == "xyz"    ? export_extended_xyz(path, output)
+                               : format == "gsd" ? export_gsd(path, output)
+                                                 : export_xdmf(path, output);
     spdlog::info("{} frames of '{}' written to '{}'", frames, path, output);
   } catch (const H5Error& error) {
     throw InputError(fmt::format("cannot export '{}': {}", path, error.what()));
@@ -137,11 +212,19 @@ int main(int argc, char** argv) {
   int threads = 0;
   bool quiet = false;
   auto* run = app.add_subcommand("run", "run a scenario from a TOML file");
-  run->add_option("file", file, "scenario configuration (.toml)")->required();
+  run->add_option("file", file, "scenario configuration (.toml), or the name of a shipped one (haff_cooling)")
+      ->required();
   run->add_option("--set", overrides, "override a key: section.key=value (repeatable)");
   run->add_option("-o,--output", options.output_path, "output file (H5MD)");
   run->add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::Range(1, 4096));
   run->add_flag("--profile", options.profile, "print per-system timings (always stored under /profile)");
+  run->add_option("--log", options.log_every,
+                  "print a table of observables to standard error every N outputs, as the run goes (instead of the "
+                  "progress line)")
+      ->check(CLI::Range(std::int64_t{1}, std::int64_t{1000000000}));
+  run->add_option("--log-observables", options.log_observables,
+                  "the scalar observables --log prints (comma-separated; default: the first six by name)")
+      ->delimiter(',');
   run->add_flag("-q,--quiet", quiet, "no progress or info messages");
   run->add_flag("--resume", options.resume,
                 "continue from OUTPUT.checkpoint: an interrupted run, or a finished one with a later stop "
@@ -171,19 +254,25 @@ int main(int argc, char** argv) {
   info->add_option("file", info_path, "H5MD result file")->required();
   bool edited = false;
   info->add_flag("--edited", edited, "the file was changed after granflow wrote it, on purpose: read it anyway");
-  auto* export_frames = app.add_subcommand("export", "write a result file's particle frames for OVITO (extended XYZ) "
-                                                   "or ParaView (XDMF)");
+  auto* export_frames = app.add_subcommand("export", "write a result file's particle frames for ASE and OVITO "
+                                                   "(extended XYZ), HOOMD-blue, gsd and OVITO (GSD) or ParaView "
+                                                   "(XDMF, with the fields)");
   std::string export_path, export_format, export_output;
   export_frames->add_option("file", export_path, "H5MD result file with particle frames")->required();
-  export_frames->add_option("--format", export_format, "xyz (extended XYZ) or xdmf (XML over the same HDF5 file)")
+  export_frames->add_option("--format", export_format,
+                            "xyz (extended XYZ), gsd (HOOMD schema) or xdmf (XML and OUTPUT.h5 of virtual datasets "
+                            "over the result file)")
       ->required()
-      ->check(CLI::IsMember({"xyz", "xdmf"}));
-  export_frames->add_option("-o,--output", export_output, "output file (default: the result's name with .xyz or .xdmf)");
+      ->check(CLI::IsMember({"xyz", "gsd", "xdmf"}));
+  export_frames->add_option("-o,--output", export_output,
+                            "output file (default: the result's name with .xyz, .gsd or .xdmf)");
   export_frames->add_flag("--edited", edited, "the file was changed after granflow wrote it, on purpose: read it anyway");
 
   std::string keys_name;
-  auto* keys = app.add_subcommand("keys", "list a scenario's configuration keys with defaults and ranges");
-  keys->add_option("scenario", keys_name, "scenario name")->required();
+  auto* keys = app.add_subcommand("keys", "list a scenario's configuration keys with defaults (or a file's values) "
+                                          "and ranges");
+  keys->add_option("scenario", keys_name, "scenario name, or a configuration file (.toml) to show its values")
+      ->required();
 
   try {
     app.parse(argc, argv);

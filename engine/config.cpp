@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <toml++/toml.h>
 
+#include "engine/suggestion.hpp"
 #include "engine/toml_reading.hpp"
 
 namespace granflow {
@@ -85,7 +87,7 @@ ConfigValue from_toml_node(const KeySpec& spec, const toml::node& node) {
             if (!inner) {
               std::vector<std::string> known;
               for (const auto& k : spec.element->keys()) known.push_back(k.key);
-              throw ConfigError(fmt::format("unknown key '{}' in {}; known keys: {}", key, where, join(known, ", ")));
+              throw ConfigError(fmt::format("unknown key '{}' in {}{}", key, where, suggestion_text(key, known, "keys")));
             }
             try {
               element.set(key, from_toml_node(*inner, *leaf));
@@ -288,8 +290,9 @@ Config Config::from_toml_text(const ConfigSchema& schema, const std::string& tex
     if (!spec) {
       std::vector<std::string> known;
       for (const auto& s : schema.keys()) known.push_back(s.key);
-      throw ConfigError(fmt::format("unknown configuration key '{}' in {}; known keys: {}", key, origin,
-                                    join(known, ", ")));
+      throw ConfigError(fmt::format("unknown configuration key '{}' in {}{} (`granflow keys` lists them with their "
+                                    "ranges)",
+                                    key, origin, suggestion_text(key, known, "keys")));
     }
     config.set(key, from_toml_node(*spec, *node));
   }
@@ -327,7 +330,8 @@ const KeySpec& Config::spec(const std::string& key) const {
   if (!s) {
     std::vector<std::string> known;
     for (const auto& k : schema_->keys()) known.push_back(k.key);
-    throw ConfigError(fmt::format("unknown configuration key '{}'; known keys: {}", key, join(known, ", ")));
+    throw ConfigError(fmt::format("unknown configuration key '{}'{} (`granflow keys` lists them with their ranges)",
+                                  key, suggestion_text(key, known, "keys")));
   }
   return *s;
 }
@@ -480,6 +484,7 @@ std::vector<std::string> Config::resume_conflicts(const Config& other) const {
 }
 
 std::string scenario_name_of(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw ConfigError(fmt::format("configuration file '{}' does not exist", path));
   if (!std::ifstream(path)) throw ConfigError(fmt::format("cannot open configuration file '{}'", path));
   const toml::table table = parse_toml_file(path, path);
   if (!table.contains("scenario"))

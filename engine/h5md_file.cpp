@@ -2,7 +2,6 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
-#include <sys/file.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -141,14 +140,20 @@ struct H5mdFile::Series {
 // The .partial is claimed with an exclusive lock before HDF5 touches it: a
 // second run with the same output stops here instead of truncating the
 // first run's file. The lock goes with the process, so a killed run leaves
-// no stale claim. HDF5's own locking is off, as this lock replaces it.
+// no stale claim. HDF5's own locking is off, as this lock replaces it. It is
+// an open-file-description lock (fcntl), which the flock() that HDF5 readers
+// such as h5py take for reading does not see: the file can be read while it
+// is written (flush_if_due).
 H5mdFile::H5mdFile(const std::string& path, const std::string& scenario)
     : path_(path), partial_path_(path + ".partial"), started_(std::chrono::steady_clock::now()) {
   h5_quiet();
   lock_ = ::open(partial_path_.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
   if (lock_ < 0)
     throw InputError(fmt::format("cannot create '{}': {}", partial_path_, std::strerror(errno)));
-  if (::flock(lock_, LOCK_EX | LOCK_NB) != 0) {
+  struct flock whole_file {};
+  whole_file.l_type = F_WRLCK;
+  whole_file.l_whence = SEEK_SET;
+  if (::fcntl(lock_, F_OFD_SETLK, &whole_file) != 0) {
     ::close(lock_);
     throw InputError(fmt::format("output '{}' is in use by another run ('{}' is locked); wait for it to finish or "
                                  "choose another -o",
@@ -184,7 +189,42 @@ H5mdFile::H5mdFile(const std::string& path, const std::string& scenario)
   write_string_attribute(provenance, "host", host_name());
   write_string_attribute(provenance, "command_line", recorded_command_line());
   write_numeric_attribute<int>(provenance, "threads", H5T_NATIVE_INT, {thread_limit()});
-  write_string_attribute(provenance, "started_utc", utc_timestamp());
+  started_utc_ = utc_timestamp();
+  write_string_attribute(provenance, "started_utc", started_utc_);
+}
+
+namespace {
+
+const std::vector<std::string> segment_texts{"command_line", "version", "revision", "host", "started_utc", "ended_utc"};
+
+}  // namespace
+
+StateMap H5mdFile::provenance_state() const {
+  StateMap segments = earlier_segments_;
+  const BuildInfo& build = build_info();
+  const std::vector<std::string> current{recorded_command_line(), build.version, build.revision, host_name(),
+                                         started_utc_, utc_timestamp()};
+  for (std::size_t k = 0; k < segment_texts.size(); ++k) {
+    auto& list = segments[segment_texts[k]];
+    const auto more = encode_texts({current[k]});
+    list.insert(list.end(), more.begin(), more.end());
+  }
+  segments["threads"].push_back(thread_limit());
+  segments["wall_seconds"].push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count());
+  return segments;
+}
+
+void H5mdFile::restore_provenance(const StateMap& state) {
+  const auto threads = state.find("threads");
+  if (threads == state.end()) return;  // a checkpoint from before segments were kept
+  for (const auto& name : segment_texts) {
+    const auto texts = state.find(name);
+    if (texts == state.end() || decode_texts(texts->second).size() != threads->second.size())
+      throw std::invalid_argument("checkpoint provenance '" + name + "' does not match its segments");
+  }
+  if (state.count("wall_seconds") == 0 || state.at("wall_seconds").size() != threads->second.size())
+    throw std::invalid_argument("checkpoint provenance has no wall times for its segments");
+  earlier_segments_ = state;
 }
 
 // A file abandoned before finish() (the run threw) is deleted: a .partial
@@ -241,6 +281,8 @@ void H5mdFile::write_box(const std::vector<double>& edges, const std::vector<std
   const auto positions = series_.find("/particles/all/position");
   if (positions == series_.end() || positions->second->frames == 0) {
     write_dataset(box, "edges", H5T_NATIVE_DOUBLE, edges.data(), {edges.size()});
+    H5Handle dataset(H5Dopen2(box, "edges", H5P_DEFAULT), H5Dclose, "open box/edges");
+    write_string_attribute(dataset, "unit", unit::length);
     return;
   }
   const Series& frames = *positions->second;
@@ -254,6 +296,8 @@ void H5mdFile::write_box(const std::vector<double>& edges, const std::vector<std
   for (hsize_t k = 0; k < frames.frames; ++k)
     for (std::size_t a = 0; a < d; ++a) matrices[(k * d + a) * d + a] = edges[a];
   write_dataset(element, "value", H5T_NATIVE_DOUBLE, matrices.data(), {frames.frames, d, d});
+  H5Handle dataset(H5Dopen2(element, "value", H5P_DEFAULT), H5Dclose, "open box/edges/value");
+  write_string_attribute(dataset, "unit", unit::length);
 }
 
 void H5mdFile::write_particle_constant(const std::string& name, const std::vector<double>& data,
@@ -426,11 +470,10 @@ void H5mdFile::append_field(const std::string& name, std::int64_t step, double t
             values.data(), name);
 }
 
-void H5mdFile::write_observable_constant(const std::string& name, const std::vector<double>& value,
-                                         const std::string& unit) {
-  const hid_t observables = group("/observables");
-  write_dataset(observables, name, H5T_NATIVE_DOUBLE, value.data(), {value.size()});
-  H5Handle dataset(H5Dopen2(observables, name.c_str(), H5P_DEFAULT), H5Dclose, "open " + name);
+void H5mdFile::write_result(const std::string& name, const std::vector<double>& value, const std::string& unit) {
+  const hid_t results = group("/results");
+  write_dataset(results, name, H5T_NATIVE_DOUBLE, value.data(), {value.size()});
+  H5Handle dataset(H5Dopen2(results, name.c_str(), H5P_DEFAULT), H5Dclose, "open " + name);
   write_string_attribute(dataset, "unit", unit);
 }
 
@@ -470,9 +513,21 @@ void H5mdFile::write_attribute(const std::string& path, const std::string& name,
 }
 
 
+void H5mdFile::flush_if_due() {
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last_flush_ < std::chrono::seconds(1)) return;
+  h5_check(H5Fflush(file_, H5F_SCOPE_LOCAL), "flush '" + partial_path_ + "'");
+  last_flush_ = now;
+}
+
 void H5mdFile::finish() {
   if (finished_) return;
   const hid_t provenance = group("/provenance");
+  const StateMap segments = provenance_state();
+  const hid_t listed = group("/provenance/segments");
+  for (const auto& name : segment_texts) write_string_dataset(listed, name, decode_texts(segments.at(name)), false);
+  for (const auto* name : {"threads", "wall_seconds"})
+    write_dataset(listed, name, H5T_NATIVE_DOUBLE, segments.at(name).data(), {segments.at(name).size()});
   write_string_attribute(provenance, "finished_utc", utc_timestamp());
   write_numeric_attribute<double>(
       provenance, "wall_seconds", H5T_NATIVE_DOUBLE,

@@ -51,8 +51,10 @@ class H5mdFile {
   // `shape` per frame (e.g. cells z, y, x and components).
   void append_field(const std::string& name, std::int64_t step, double time, const std::vector<double>& values,
                     const std::vector<hsize_t>& shape, const std::string& unit);
-  // A fixed, time-independent observable (a histogram's bin edges, a fitted constant).
-  void write_observable_constant(const std::string& name, const std::vector<double>& value, const std::string& unit);
+  // A time-independent result (a histogram and its bin edges, a scan, an
+  // average profile): /results/NAME, outside /observables, where H5MD readers
+  // such as MDAnalysis expect only {step, time, value} series.
+  void write_result(const std::string& name, const std::vector<double>& value, const std::string& unit);
   void write_profile(const std::vector<ProfileEntry>& entries);
   // A plain 1D dataset at group_path/name (for checkpoint state).
   void write_array(const std::string& group_path, const std::string& name, const std::vector<double>& values);
@@ -66,6 +68,17 @@ class H5mdFile {
   StateMap frames_state(const std::map<std::string, std::size_t>& limit = {}) const;
   std::map<std::string, std::size_t> frame_counts() const;
   void restore_frames(const StateMap& state);
+  // Where the run came from, segment by segment: every segment of a resumed
+  // run (command line, version and revision, host, threads, start, end, wall
+  // time) is carried in its checkpoints, and the file lists them all under
+  // /provenance/segments; the attributes of /provenance are the last one's.
+  StateMap provenance_state() const;
+  void restore_provenance(const StateMap& state);
+  // Writes what the file holds to disk, at most once a second of wall time,
+  // so that a reader opening OUTPUT.partial while the run goes on sees every
+  // series up to an output round close to the last one. Called after each
+  // round of outputs.
+  void flush_if_due();
   // Closes the file and moves it to its final name.
   void finish();
 
@@ -85,6 +98,9 @@ class H5mdFile {
   std::map<std::string, std::unique_ptr<Series>> series_;
   std::map<std::string, std::string> units_;
   std::chrono::steady_clock::time_point started_;
+  std::chrono::steady_clock::time_point last_flush_ = started_;
+  std::string started_utc_;
+  StateMap earlier_segments_;
   bool finished_ = false;
   int lock_ = -1;  // descriptor holding the exclusive lock on the .partial
 };

@@ -147,6 +147,11 @@ DoubleArray H5mdReader::frame(const std::string& dataset_path, std::uint64_t ind
   return out;
 }
 
+std::vector<std::uint64_t> H5mdReader::shape(const std::string& dataset_path) const {
+  H5Handle dataset(H5Dopen2(file_, dataset_path.c_str(), H5P_DEFAULT), H5Dclose, "open " + dataset_path);
+  return shape_of(dataset, dataset_path);
+}
+
 std::vector<std::int64_t> H5mdReader::integers(const std::string& dataset_path) const {
   H5Handle dataset(H5Dopen2(file_, dataset_path.c_str(), H5P_DEFAULT), H5Dclose, "open " + dataset_path);
   std::vector<std::int64_t> out(element_count(shape_of(dataset, dataset_path)));

@@ -20,6 +20,8 @@ class H5mdReader {
 
   bool exists(const std::string& object_path) const;
   DoubleArray doubles(const std::string& dataset_path) const;
+  // A dataset's shape, without reading it.
+  std::vector<std::uint64_t> shape(const std::string& dataset_path) const;
   std::vector<std::int64_t> integers(const std::string& dataset_path) const;
   // Entry `index` along the first axis of a dataset (one frame of a series).
   DoubleArray frame(const std::string& dataset_path, std::uint64_t index) const;

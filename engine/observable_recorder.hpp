@@ -55,6 +55,7 @@ class ObservableRecorder : public System {
       append(file, name, {clock.step, clock.time, slot.value});
       slot.fresh = false;
     }
+    if (file) file->flush_if_due();
   }
 
   void append(H5mdFile* file, const std::string& name, const ObservableSample& sample) {
@@ -67,6 +68,12 @@ class ObservableRecorder : public System {
     history_[name].push_back(sample);
   }
   const ObservableHistory& history() const { return history_; }
+  const std::vector<std::string>& observables() const { return observables_; }
+  // Whether the observable's samples so far hold more than one value.
+  bool vector_valued(const std::string& name) const {
+    const auto it = history_.find(name);
+    return it != history_.end() && !it->second.empty() && it->second.back().value.size() > 1;
+  }
 
   StateMap save_history() const { return granflow::save_history(history_); }
   // Writes a saved history again (into `file`, when there is one).

@@ -83,6 +83,7 @@ void Run::prepare() {
   for (auto& trigger : triggers_) trigger->pass(round_time_, round_step_);
   recorder_->replay(file_, state_under(*resume_, "history"));
   if (file_) file_->restore_frames(state_under(*resume_, "frames"));
+  if (file_) file_->restore_provenance(state_under(*resume_, "provenance"));
 }
 
 void Run::synchronise_host() {
@@ -103,6 +104,7 @@ StateMap Run::save() {
   // A finished run's checkpoint leaves out what its final round wrote: an
   // extension writes its own at its new end.
   if (file_) put_state_under(out, "frames", file_->frames_state(at_end_fired_ ? frames_before_end_ : FrameCounts{}));
+  if (file_) put_state_under(out, "provenance", file_->provenance_state());
   return out;
 }
 

@@ -19,6 +19,7 @@
 #include "engine/interrupt.hpp"
 #include "engine/profiler.hpp"
 #include "engine/progress.hpp"
+#include "engine/thermo_log.hpp"
 #include "engine/rng.hpp"
 #include "engine/run.hpp"
 #include "engine/stream_ids.hpp"
@@ -175,11 +176,14 @@ int single_run(const Scenario& scenario, const Config& config, const RunOptions&
   }
   if (resumed) spdlog::info("resuming from '{}' at t = {:.6g}", checkpoint, run.clock().time);
 
-  Progress progress(scenario.name, run.rate_unit(), options.progress);
+  Progress progress(scenario.name, run.rate_unit(), options.progress && options.log_every == 0);
+  std::optional<ThermoLog> log;
+  if (options.log_every > 0) log.emplace(options.log_every, options.log_observables, run.recorder());
   const double interval = config.real("output.checkpoint_interval");
   auto last_checkpoint = std::chrono::steady_clock::now();
   const auto after_round = [&] {
     progress.update(run.progress_fraction(), run.work_done());
+    if (log) log->after_round(run.clock().step, run.clock().time);
     const auto now = std::chrono::steady_clock::now();
     if (std::chrono::duration<double>(now - last_checkpoint).count() >= interval) {
       write_checkpoint(checkpoint, scenario.name, config, run.save());

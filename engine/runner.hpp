@@ -6,6 +6,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "engine/config.hpp"
 #include "engine/interrupt.hpp"
@@ -21,6 +22,9 @@ struct RunOptions {
   bool handle_signals = true;  // SIGINT/SIGTERM checkpoint and stop (off inside sweeps' worker threads)
   // A guard installed by the caller (a sweep), watched instead of one of the run's own.
   const InterruptGuard* interrupt_guard = nullptr;
+  // A table of observables on standard error every `log_every` output rounds (0: none).
+  std::int64_t log_every = 0;
+  std::vector<std::string> log_observables;  // empty: the first six scalar ones
 };
 
 // Exit statuses of a run.

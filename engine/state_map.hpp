@@ -31,6 +31,31 @@ inline StateMap state_under(const StateMap& state, const std::string& prefix) {
   return out;
 }
 
+// Texts (command lines, host names) as one array of their bytes, each text
+// ended by a 0, and back.
+inline std::vector<double> encode_texts(const std::vector<std::string>& texts) {
+  std::vector<double> out;
+  for (const auto& text : texts) {
+    for (unsigned char c : text) out.push_back(c);
+    out.push_back(0.0);
+  }
+  return out;
+}
+inline std::vector<std::string> decode_texts(const std::vector<double>& bytes) {
+  std::vector<std::string> texts;
+  std::string current;
+  for (double b : bytes) {
+    if (!(b >= 0.0 && b < 256.0)) throw std::invalid_argument("checkpoint text holds a value that is not a byte");
+    if (b == 0.0) {
+      texts.push_back(current);
+      current.clear();
+    } else {
+      current.push_back(static_cast<char>(static_cast<unsigned char>(b)));
+    }
+  }
+  return texts;
+}
+
 // A list of fixed-size vectors (Eigen's Vec<D>) as one flat array and back.
 template <class V>
 std::vector<double> flatten_vectors(const std::vector<V>& vectors) {

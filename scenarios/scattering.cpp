@@ -96,9 +96,9 @@ void reduce(const EnsembleResults& results, H5mdFile& file) {
     analytic.push_back(p.analytic);
     worst = std::max(worst, std::abs(p.angle - p.analytic));
   }
-  file.write_observable_constant("impact_parameter_ratio", ratio, unit::none);
-  file.write_observable_constant("scattering_angle", angle, unit::angle);
-  file.write_observable_constant("scattering_angle_analytic", analytic, unit::angle);
+  file.write_result("impact_parameter_ratio", ratio, unit::none);
+  file.write_result("scattering_angle", angle, unit::angle);
+  file.write_result("scattering_angle_analytic", analytic, unit::angle);
   // The analytic curve on a fine grid, for drawing it between the scan's points.
   const Config& c = results.config;
   const double largest = ratio.empty() ? 1.0 : *std::max_element(ratio.begin(), ratio.end());
@@ -108,8 +108,8 @@ void reduce(const EnsembleResults& results, H5mdFile& file) {
     fine_angle.push_back(analytic_scattering_angle(fine_ratio.back(), c.real("target.mass"), c.real("projectile.mass"),
                                                    c.real("collision.restitution")));
   }
-  file.write_observable_constant("analytic_curve_impact_parameter_ratio", fine_ratio, unit::none);
-  file.write_observable_constant("analytic_curve_scattering_angle", fine_angle, unit::angle);
+  file.write_result("analytic_curve_impact_parameter_ratio", fine_ratio, unit::none);
+  file.write_result("analytic_curve_scattering_angle", fine_angle, unit::angle);
   file.write_attribute("/observables", "largest_deviation_rad", worst);
   file.write_attribute("/observables", "stop_reason", "scan complete");
   spdlog::info("{} impact parameters, largest deviation from the analytic angle {:.3g} rad", ratio.size(), worst);

@@ -1,9 +1,9 @@
 #pragma once
 // Writes a speed histogram and its statistics, measured and Maxwell-Boltzmann,
 // for the EDMD scenarios that study speed distributions:
-//   /observables/<name>              histogram density per bin
-//   /observables/<name>_edges        bin edges
-//   /observables/speed_statistics/<name>  attributes: mean, rms and most
+//   /results/<name>                  histogram density per bin
+//   /results/<name>_edges            bin edges
+//   /results/speed_statistics/<name>  attributes: mean, rms and most
 //       probable speed, their Maxwell-Boltzmann values at the sample's
 //       temperature, and a chi-square test (20 equal-probability bins, 0.999).
 
@@ -36,9 +36,9 @@ SpeedReport write_speed_histogram(H5mdFile& file, const std::string& name, const
   report.chi_square_critical = theory::chi_square_critical_0999(test_bins - 2);
   report.chi_square = report.temperature > 0 ? theory::speed_chi_square<D>(speeds, report.temperature, mass, test_bins)
                                              : 0.0;
-  file.write_observable_constant(name, histogram.density, unit::per_velocity);
-  file.write_observable_constant(name + "_edges", histogram.edges, unit::velocity);
-  const std::string group = "/observables/speed_statistics/" + name;
+  file.write_result(name, histogram.density, unit::per_velocity);
+  file.write_result(name + "_edges", histogram.edges, unit::velocity);
+  const std::string group = "/results/speed_statistics/" + name;
   file.write_attribute(group, "samples", static_cast<double>(report.measured.samples));
   file.write_attribute(group, "mass", mass);
   file.write_attribute(group, "temperature", report.temperature);

@@ -103,10 +103,10 @@ def maxwell_boltzmann(v, temperature, mass, dim):
 
 
 def draw_histogram(ax, f, name, dim, label, colour, theory=True):
-    density = f[f"/observables/{name}"][()]
-    edges = f[f"/observables/{name}_edges"][()]
+    density = f[f"/results/{name}"][()]
+    edges = f[f"/results/{name}_edges"][()]
     ax.stairs(density, edges, color=colour, label=label)
-    stats = f[f"/observables/speed_statistics/{name}"].attrs
+    stats = f[f"/results/speed_statistics/{name}"].attrs
     if theory and float(stats["temperature"]) > 0:
         v = np.linspace(0, edges[-1], 400)
         ax.plot(v, maxwell_boltzmann(v, float(stats["temperature"]), float(stats["mass"]), dim), "--",
@@ -178,14 +178,14 @@ def plot_mixture(files, output):
 
 def plot_scattering(files, output):
     f = files[0]
-    ratio = f["/observables/impact_parameter_ratio"][()]
+    ratio = f["/results/impact_parameter_ratio"][()]
     fig, ax = plt.subplots(figsize=(6.4, 4.5))
-    ax.plot(ratio, f["/observables/scattering_angle"][()], "o", ms=4, label="granflow EDMD")
-    if "analytic_curve_scattering_angle" in f["/observables"]:
-        ax.plot(f["/observables/analytic_curve_impact_parameter_ratio"][()],
-                f["/observables/analytic_curve_scattering_angle"][()], "-", label="analytic")
+    ax.plot(ratio, f["/results/scattering_angle"][()], "o", ms=4, label="granflow EDMD")
+    if "analytic_curve_scattering_angle" in f["/results"]:
+        ax.plot(f["/results/analytic_curve_impact_parameter_ratio"][()],
+                f["/results/analytic_curve_scattering_angle"][()], "-", label="analytic")
     else:
-        ax.plot(ratio, f["/observables/scattering_angle_analytic"][()], "-", label="analytic (at the scan's points)")
+        ax.plot(ratio, f["/results/scattering_angle_analytic"][()], "-", label="analytic (at the scan's points)")
     ax.set_xlabel("$b / R_{12}$")
     ax.set_ylabel("scattering angle [rad]")
     xi = float(f["/parameters/collision"].attrs["restitution"])
@@ -608,8 +608,8 @@ def draw_bed(f, output, suffixes, divider=None, title=None):
     layer = float(obs.attrs["height_profile_layer"])
     top = layer
     for suffix in suffixes:
-        phi = obs[f"packing_fraction_profile_mean{suffix}"][()]
-        t = obs[f"temperature_profile_mean{suffix}"][()]
+        phi = f[f"/results/packing_fraction_profile_mean{suffix}"][()]
+        t = f[f"/results/temperature_profile_mean{suffix}"][()]
         z = (np.arange(len(phi)) + 0.5) * layer
         label = suffix.strip("_") or "bed"
         packing.plot(phi, z, "-o", ms=3, label=label)

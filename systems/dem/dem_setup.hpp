@@ -19,6 +19,7 @@
 
 #include "components/force.hpp"
 #include "components/angular_velocity.hpp"
+#include "components/image_count.hpp"
 #include "components/mass.hpp"
 #include "components/particle_id.hpp"
 #include "components/position.hpp"
@@ -351,8 +352,13 @@ inline double add_dem_step(Run& run, const std::array<double, 3>& box, const std
   run.derive("contact_time", t_c);
   run.derive("shaking_acceleration_ratio",
              c.real("shaking.amplitude") * omega * omega / std::max(std::abs(g[2]), 1e-300));
+  // Along periodic axes the spheres count their images, so that frames
+  // unwrap (position + image L) as H5MD readers expect; a resumed run has
+  // them from the checkpoint.
+  if (std::find(periodic.begin(), periodic.end(), true) != periodic.end() && !world.has_component<ImageCount<D>>())
+    for (auto& image : world.add_component<ImageCount<D>>().values) image.setZero();
   std::vector<std::string> boundary;
-  for (bool p : periodic) boundary.push_back(p ? "periodic" : "reflecting");
+  for (bool p : periodic) boundary.push_back(p ? "periodic" : "none");
   run.box(std::vector<double>(box.begin(), box.end()), boundary);
   if (c.text("run.integrator") == "position_verlet") {
     // A resumed run has its previous positions from the checkpoint.

@@ -8,7 +8,7 @@
 // the same profiles more often than the outputs (so that the average runs
 // over the whole shaking cycle, not the outputs' phase of it) from
 // `average_from` on, and writes their time averages at the end as
-// time-independent observables (packing_fraction_profile_mean,
+// time-independent results (/results/packing_fraction_profile_mean,
 // temperature_profile_mean, with the suffixes): the packing fraction as a
 // plain mean, the temperature weighted by each layer's sphere count (an
 // empty layer has no temperature), with the layer thickness, the number of
@@ -175,8 +175,8 @@ class DemHeightProfileAverage : public System, public Stateful {
         packing[k] = a[0] / static_cast<double>(samples_);
         temperature[k] = a[2] > 0.0 ? a[1] / a[2] : 0.0;
       }
-      file.write_observable_constant("packing_fraction_profile_mean" + g_.suffixes()[part], packing, unit::none);
-      file.write_observable_constant("temperature_profile_mean" + g_.suffixes()[part], temperature, unit::energy);
+      file.write_result("packing_fraction_profile_mean" + g_.suffixes()[part], packing, unit::none);
+      file.write_result("temperature_profile_mean" + g_.suffixes()[part], temperature, unit::energy);
     }
     file.write_attribute("/observables", "height_profile_layer", g_.layer);
     file.write_attribute("/observables", "height_profile_samples", static_cast<double>(samples_));

@@ -6,8 +6,11 @@
 // of their own (unwrapped relative to the current ones, so that a sphere
 // crossing a periodic boundary keeps its displacement).
 
+#include <cmath>
+
 #include "components/clock.hpp"
 #include "components/force.hpp"
+#include "components/image_count.hpp"
 #include "components/mass.hpp"
 #include "components/position.hpp"
 #include "components/vector.hpp"
@@ -34,7 +37,7 @@ class DemPositionVerlet : public System {
   std::string name() const override { return "dem_position_verlet"; }
   Access access() const override {
     return Access{}.reads<Force<D>, Mass, DemBox<D>, NeighbourList<D>>()
-        .template writes<Position<D>, Velocity<D>, PreviousPosition<D>, Clock>();
+        .template writes<Position<D>, Velocity<D>, PreviousPosition<D>, ImageCount<D>, Clock>();
   }
 
   // The previous positions of a start from x and v: x - v dt + F dt^2 / 2m,
@@ -59,6 +62,7 @@ class DemPositionVerlet : public System {
     const auto& f = world.component<Force<D>>();
     const auto& m = world.component<Mass>();
     const auto& box = world.resource<DemBox<D>>();
+    auto* images = world.has_component<ImageCount<D>>() ? &world.component<ImageCount<D>>() : nullptr;
     const double dt = dt_;
     const ThreadDomains domains = sphere_domains<D>(world);
     for_each_sphere_run(domains, [&](std::size_t, std::size_t from, std::size_t to) {
@@ -67,7 +71,11 @@ class DemPositionVerlet : public System {
         v[i] = (next - x[i]) / dt;
         previous[i] = x[i];
         x[i] = next;
-        previous[i] -= box.wrap(x[i]);
+        const Vec<D> shift = box.wrap(x[i]);
+        previous[i] -= shift;
+        if (images)
+          for (int a = 0; a < D; ++a)
+            if (box.periodic[a]) (*images)[i][a] += static_cast<std::int32_t>(std::lround(shift[a] / box.length[a]));
       }
     });
   }

@@ -14,6 +14,7 @@
 #include "components/angular_velocity.hpp"
 #include "components/clock.hpp"
 #include "components/force.hpp"
+#include "components/image_count.hpp"
 #include "components/mass.hpp"
 #include "components/position.hpp"
 #include "components/radius.hpp"
@@ -53,7 +54,7 @@ class DemKickDrift : public System {
   Access access() const override {
     return Access{}
         .reads<Force<D>, Torque, Mass, Radius, DemBox<D>, NeighbourList<D>>()
-        .template writes<Position<D>, Velocity<D>, AngularVelocity, Clock, NeighbourList<D>>();
+        .template writes<Position<D>, Velocity<D>, ImageCount<D>, AngularVelocity, Clock, NeighbourList<D>>();
   }
   void run(World& world) override {
     auto& clock = world.resource<Clock>();
@@ -74,6 +75,8 @@ class DemKickDrift : public System {
     }
     double* const xs = x.values.data()->data();
     double* const vs = v.values.data()->data();
+    std::int32_t* const images =
+        world.has_component<ImageCount<D>>() ? world.component<ImageCount<D>>().values.data()->data() : nullptr;
     const double* const fs = f.values.data()->data();
     // With the lists built, each run of spheres also measures how far they
     // have moved since, while their positions are in cache: the lists' skin
@@ -89,9 +92,12 @@ class DemKickDrift : public System {
           const std::size_t k = i * D + static_cast<std::size_t>(a);
           vs[k] += kick * fs[k];
           double p = xs[k] + dt * vs[k];
-          p += p < 0.0 ? period[a] : 0.0;
-          p -= p >= length[a] ? period[a] : 0.0;
+          const double below = p < 0.0 ? period[a] : 0.0;
+          p += below;
+          const double above = p >= length[a] ? period[a] : 0.0;
+          p -= above;
           xs[k] = p;
+          if (images) images[k] += static_cast<std::int32_t>(above > 0.0) - static_cast<std::int32_t>(below > 0.0);
         }
       }
       if (nl) raise_to(moved, largest_displacement_squared(x.values.data(), *nl, box, from, to));

@@ -3,17 +3,16 @@
 // grid (cell k covers [k, k+1) along each axis), averaged over the last
 // `window` steps before each output and written to /fields/{density,
 // velocity,temperature}/{step,time,value} (value: cells z, y, x [, D]), with
-// an XDMF file beside the result file (OUTPUT.fields.xdmf) so that ParaView
-// opens the fields on their grid. The temperature of a cell is that of each
-// sampled step (about that step's cell mean), averaged.
+// an XDMF file beside the result file (OUTPUT.fields.xdmf and its companion
+// OUTPUT.fields.xdmf.h5) so that ParaView opens the fields on their grid. The
+// temperature of a cell is that of each sampled step (about that step's cell
+// mean), averaged.
 
-#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <array>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -30,6 +29,7 @@
 #include "engine/system_catalogue.hpp"
 #include "engine/units.hpp"
 #include "engine/world.hpp"
+#include "engine/xdmf_export.hpp"
 #include "systems/srd/srd_cells.hpp"
 
 namespace granflow::srd {
@@ -98,52 +98,8 @@ class SrdFieldWriter : public System, public Stateful {
   void write_xdmf(const H5mdFile& file) const {
     if (times_.empty()) return;
     const std::string xdmf = std::filesystem::path(file.path()).replace_extension(".fields.xdmf").string();
-    const std::string h5 = std::filesystem::path(file.path()).filename().string();
-    std::string cells_zyx, nodes_zyx;
-    for (int a = D - 1; a >= 0; --a) {
-      cells_zyx += fmt::format("{}{}", a == D - 1 ? "" : " ", cells_[a]);
-      nodes_zyx += fmt::format("{}{}", a == D - 1 ? "" : " ", cells_[a] + 1);
-    }
-    const std::string origin = D == 3 ? "0 0 0" : "0 0", spacing = D == 3 ? "1 1 1" : "1 1";
-    std::string text = "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n"
-                       "    <Grid Name=\"fields\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    const std::size_t frames = times_.size();
-    for (std::size_t f = 0; f < frames; ++f) {
-      text += fmt::format("    <Grid Name=\"frame {}\" GridType=\"Uniform\">\n      <Time Value=\"{:.17g}\"/>\n", f, times_[f]);
-      text += fmt::format("      <Topology TopologyType=\"{}\" Dimensions=\"{}\"/>\n", D == 3 ? "3DCoRectMesh" : "2DCoRectMesh",
-                          nodes_zyx);
-      text += fmt::format("      <Geometry GeometryType=\"{}\">\n"
-                          "        <DataItem Dimensions=\"{}\" Format=\"XML\">{}</DataItem>\n"
-                          "        <DataItem Dimensions=\"{}\" Format=\"XML\">{}</DataItem>\n      </Geometry>\n",
-                          D == 3 ? "ORIGIN_DXDYDZ" : "ORIGIN_DXDY", D, origin, D, spacing);
-      for (const auto& [field, components] : {std::pair{"density", 1}, {"velocity", D}, {"temperature", 1}}) {
-        const std::string dims = components > 1 ? fmt::format("{} {}", cells_zyx, components) : cells_zyx;
-        const int rank = D + (components > 1 ? 1 : 0) + 1;
-        std::string start = std::to_string(f), stride = "1", count = "1";
-        for (int r = 1; r < rank; ++r) {
-          start += " 0";
-          stride += " 1";
-        }
-        count += " " + dims;
-        text += fmt::format(
-            "      <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Cell\">\n"
-            "        <DataItem ItemType=\"HyperSlab\" Dimensions=\"{}\">\n"
-            "          <DataItem Dimensions=\"3 {}\" Format=\"XML\">{} {} {}</DataItem>\n"
-            "          <DataItem Dimensions=\"{} {}\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:/fields/{}/value</DataItem>\n"
-            "        </DataItem>\n      </Attribute>\n",
-            field, components > 1 ? (D == 3 ? "Vector" : "Matrix") : "Scalar", dims, rank, start, stride, count,
-            frames, dims, h5, field);
-      }
-      text += "    </Grid>\n";
-    }
-    text += "    </Grid>\n  </Domain>\n</Xdmf>\n";
-    const std::string partial = xdmf + ".partial";
-    {
-      std::ofstream out(partial);
-      out << text;
-      if (!out.flush()) throw std::runtime_error("cannot write " + partial);
-    }
-    std::filesystem::rename(partial, xdmf);
+    write_field_xdmf(file.path(), xdmf, std::vector<std::size_t>(cells_.begin(), cells_.end()), times_,
+                     {{"density", 1}, {"velocity", static_cast<std::size_t>(D)}, {"temperature", 1}});
   }
 
  private:

@@ -34,7 +34,22 @@ expect_error "'run.t_stop' = 0 is out of range" run "$scenario" --set run.t_stop
 expect_error "cannot place 1000 particles at packing fraction" run "$scenario" --set system.radius=0.1 -o "$work/x.h5"
 expect_error "must exceed two particle diameters" \
   run "$scenario" --set system.count=1 --set system.radius=0.3 -o "$work/x.h5"
-expect_error "cannot open configuration file" run "$work/missing.toml"
+expect_error "configuration file '$work/missing.toml' does not exist" run "$work/missing.toml"
+# Misspelt names get the closest known one; a shipped scenario runs by its name from anywhere.
+expect_error "did you mean the shipped scenario 'haff_cooling'?" run haff_cooloing
+expect_error "did you mean 'collision.restitution'?" run "$scenario" --set colision.restitution=0.5
+expect_error "did you mean 'collision.restitution'?" run "$scenario" --set restitution=0.5
+expect_error "unknown scenario 'haff_coolin'; did you mean 'haff_cooling'?" keys haff_coolin
+expect_error "result file '$work/absent.h5md' does not exist" info "$work/absent.h5md"
+expect_error "result file '$work/absent.h5md' does not exist" export "$work/absent.h5md" --format gsd
+(cd "$work" && "$granflow" run haff_cooling --set run.t_stop=0.05 -q -o "$work/by_name.h5md") \
+  && echo "ok: run haff_cooling by name from another directory" \
+  || { echo "FAIL: run haff_cooling by name"; failures=$((failures + 1)); }
+# keys FILE shows the file's values, with the default beside those it changes.
+printf 'scenario = "haff_cooling"\n[collision]\nrestitution = 0.7\n' > "$work/changed.toml"
+"$granflow" keys "$work/changed.toml" | grep -Eq "^collision.restitution +=  ?0.7 .*\(default 0.8\)" \
+  && echo "ok: keys FILE shows the file's value and the default" \
+  || { echo "FAIL: keys FILE"; "$granflow" keys "$work/changed.toml" | grep restitution; failures=$((failures + 1)); }
 printf 'scenario = "no_such_thing"\n' > "$work/unknown.toml"
 expect_error "unknown scenario 'no_such_thing'" run "$work/unknown.toml"
 srd="$(dirname "$scenario")/srd_viscosity.toml"
@@ -291,6 +306,9 @@ with h5py.File(sys.argv[1], 'a') as f:
 expect_error "was changed or damaged after it was written" info "$work/crafted.h5"
 expect_error "attribute /parameters/run@seed holds 64 values, expected one" info --edited "$work/crafted.h5"
 expect_error "is not an HDF5 file" info "$scenario"
+# A file without particle frames or fields is refused by export, naming what to change.
+"$granflow" run "$scenario" --set output.positions=none --set run.t_stop=0.1 -q -o "$work/none.h5md" || failures=$((failures + 1))
+for format in xyz gsd xdmf; do expect_error "output.positions" export "$work/none.h5md" --format "$format"; done
 
 echo "$failures failure(s)"
 [[ $failures -eq 0 ]]

@@ -77,8 +77,8 @@ TEST(ShakenBed, FluxAccountsForTheAsymmetryAndTheEnergyBalances) {
   for (double t : file.doubles("/observables/temperature_profile_left/value").values) ASSERT_GE(t, 0.0);
   // The time-averaged profiles, sampled twenty times per shaking period
   // after output.average_after = 10, hold every sphere once as well.
-  const auto left_mean = file.doubles("/observables/packing_fraction_profile_mean_left").values;
-  const auto right_mean = file.doubles("/observables/packing_fraction_profile_mean_right").values;
+  const auto left_mean = file.doubles("/results/packing_fraction_profile_mean_left").values;
+  const auto right_mean = file.doubles("/results/packing_fraction_profile_mean_right").values;
   ASSERT_EQ(left_mean.size(), layers);
   double volume = 0.0;
   for (std::size_t q = 0; q < layers; ++q) volume += 40.0 * (left_mean[q] + right_mean[q]);

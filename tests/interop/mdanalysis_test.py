@@ -1,0 +1,95 @@
+"""Result files in MDAnalysis, the two ways docs/reading-results.md shows.
+
+H5MD (3D files): MDAnalysis 2.4 reads positions, velocities, the box and the
+times of /particles/all; reduced units have no unit string it accepts, so
+the file is loaded with convert_units=False into a universe of N particles
+(its H5MD topology reader looks for a group named "trajectory" only). Every
+frame is compared with the file, and the observables MDAnalysis attaches to
+each frame (ts.data) are checked to be those at the frame's time (each file
+writes frames at every output). GSD (2D and 3D): mda.Universe(file.gsd) takes
+the topology (types, masses, radii) and the frames. Physics: g(r) of the
+hard-sphere gas is 0 inside contact and at contact Carnahan-Starling's value.
+Skips (77) where MDAnalysis is not installed.
+
+  mdanalysis_test.py DIR"""
+import sys
+import warnings
+
+try:
+    import MDAnalysis as mda
+    from MDAnalysis.analysis.rdf import InterRDF
+except ImportError:
+    print("skipped: MDAnalysis is not installed (apt-get install python3-mdanalysis)")
+    sys.exit(77)
+import numpy as np
+
+from truth import PARTICLE_FILES, Checks, Frames
+
+warnings.simplefilter("ignore")
+directory = sys.argv[1]
+check = Checks("MDAnalysis " + mda.__version__)
+
+
+def open_h5md(path, n):
+    u = mda.Universe.empty(n, trajectory=False)
+    u.load_new(path, format="H5MD", convert_units=False)
+    return u
+
+
+for name, dimension in PARTICLE_FILES:
+    truth = Frames(f"{directory}/{name}.h5md")
+    if dimension == 3:
+        u = open_h5md(f"{directory}/{name}.h5md", truth.count)
+        check(u.trajectory.n_frames == truth.frames, f"{name}.h5md: {u.trajectory.n_frames} frames of {truth.frames}")
+        worst, mismatched = 0.0, set()
+        for ts in u.trajectory:
+            k = ts.frame
+            worst = max(worst, np.abs(u.atoms.positions - truth.positions[k]).max() / truth.edges.max(),
+                        np.abs(ts.velocities - truth.velocities[k]).max() / max(1.0, np.abs(truth.velocities[k]).max()))
+            if not np.allclose(ts.dimensions, [*truth.edges[k], 90, 90, 90]) or abs(ts.time - truth.times[k]) > 1e-6:
+                check(False, f"{name}.h5md frame {k}: box {ts.dimensions}, time {ts.time}")
+                break
+            for key, value in ts.data.items():
+                if key not in truth.observables:
+                    continue
+                times, values = truth.observables[key]
+                at = np.flatnonzero(times == truth.times[k])
+                if len(at) != 1 or not np.array_equal(np.asarray(value), values[at[0]]):
+                    mismatched.add(key)
+        # MDAnalysis keeps positions in single precision.
+        check(worst < 1e-6, f"{name}.h5md: positions and velocities within {worst:.2g} (relative)")
+        check(not mismatched, f"{name}.h5md: ts.data holds each observable at the frame's time "
+                              f"({len(truth.observables)} observables; wrong: {sorted(mismatched)})")
+        print(f"  {name}.h5md: {u.trajectory.n_frames} frames of {len(u.atoms)} atoms, box {u.dimensions[:3]}, "
+              f"observables per frame {len(u.trajectory[0].data)}")
+    g = mda.Universe(f"{directory}/{name}.gsd")
+    check(len(g.atoms) == truth.count and g.trajectory.n_frames == truth.frames,
+          f"{name}.gsd: {len(g.atoms)} atoms, {g.trajectory.n_frames} frames")
+    worst = 0.0
+    for ts in g.trajectory:
+        centred = truth.padded(truth.positions[ts.frame] - 0.5 * truth.edges[ts.frame])
+        worst = max(worst, np.abs(g.atoms.positions - centred).max() / truth.edges.max())
+    expected = [*truth.edges[-1], 0.0] if dimension == 2 else list(truth.edges[-1])
+    check(np.allclose(g.dimensions[:3], expected, rtol=1e-6), f"{name}.gsd: box {g.dimensions[:3]}")
+    check(worst < 1e-6, f"{name}.gsd: positions within {worst:.2g} (relative)")
+    check(np.allclose(g.atoms.masses, truth.mass, rtol=1e-6) and np.allclose(g.atoms.radii, truth.radius, rtol=1e-6)
+          and list(g.atoms.types) == [str(s) for s in truth.species], f"{name}.gsd: masses, radii and types")
+
+# g(r) of the hard-sphere gas: zero inside contact (2r), and at contact the
+# Carnahan-Starling value chi = (1 - eta/2) / (1 - eta)^3 (Carnahan & Starling 1969).
+truth = Frames(f"{directory}/haff.h5md")
+u = open_h5md(f"{directory}/haff.h5md", truth.count)
+sigma = 2 * truth.radius[0]
+eta = truth.count * np.pi * sigma**3 / 6 / np.prod(truth.edges[0])
+rdf = InterRDF(u.atoms, u.atoms, nbins=60, range=(0.2 * sigma, 3 * sigma), exclusion_block=(1, 1)).run()
+bins, g = rdf.results.bins, rdf.results.rdf
+width = bins[1] - bins[0]
+inside = g[bins + width / 2 < sigma]
+check(inside.max() == 0.0, f"g(r) = 0 inside contact ({len(inside)} bins)")
+contact = g[(bins > sigma) & (bins < sigma + 2 * width)].mean()
+chi = (1 - eta / 2) / (1 - eta) ** 3
+# Two bins above contact, tens of frames of 1000 particles: about 5 % noise;
+# g falls off the contact value by a few % over two bins.
+check(abs(contact / chi - 1) < 0.15, f"g at contact {contact:.3f}, Carnahan-Starling {chi:.3f} (eta = {eta:.4f})")
+check(abs(g[bins > 2 * sigma].mean() - 1) < 0.05, f"g(r) beyond two diameters {g[bins > 2 * sigma].mean():.3f} ~ 1")
+check.close()
