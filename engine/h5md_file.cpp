@@ -514,10 +514,12 @@ void H5mdFile::write_attribute(const std::string& path, const std::string& name,
 
 
 void H5mdFile::flush_if_due() {
-  const auto now = std::chrono::steady_clock::now();
-  if (now - last_flush_ < std::chrono::seconds(1)) return;
+  if (std::chrono::steady_clock::now() - last_flush_ >= std::chrono::seconds(1)) flush();
+}
+
+void H5mdFile::flush() {
   h5_check(H5Fflush(file_, H5F_SCOPE_LOCAL), "flush '" + partial_path_ + "'");
-  last_flush_ = now;
+  last_flush_ = std::chrono::steady_clock::now();
 }
 
 void H5mdFile::finish() {

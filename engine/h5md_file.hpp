@@ -79,6 +79,7 @@ class H5mdFile {
   // series up to an output round close to the last one. Called after each
   // round of outputs.
   void flush_if_due();
+  void flush();
   // Closes the file and moves it to its final name.
   void finish();
 

@@ -175,6 +175,7 @@ int single_run(const Scenario& scenario, const Config& config, const RunOptions&
     return exit_interrupted(guard->signal_number());
   }
   if (resumed) spdlog::info("resuming from '{}' at t = {:.6g}", checkpoint, run.clock().time);
+  file.flush();  // readable from the start: parameters, and a resumed run's series so far
 
   Progress progress(scenario.name, run.rate_unit(), options.progress && options.log_every == 0);
   std::optional<ThermoLog> log;
