@@ -384,7 +384,9 @@ EnsembleResults simulate_ensemble(const Scenario& scenario, const Config& config
   return results;
 }
 
-int run_scenario(const Scenario& scenario, const Config& config, const RunOptions& options) {
+int run_scenario(const Scenario& scenario, const Config& given, const RunOptions& options) {
+  Config config = given;
+  if (scenario.adopt) scenario.adopt(config);
   try {
     return scenario.ensemble() ? ensemble_run(scenario, config, options) : single_run(scenario, config, options);
   } catch (const H5Error& error) {

@@ -40,6 +40,9 @@ struct Scenario {
   std::string default_output;  // result file when no -o is given
   std::function<void(ConfigSchema&)> keys;
   std::function<void(Run&)> build;
+  // Sets the keys a stored starting state determines (initial.from), on the
+  // configuration the run then reads; none where the scenario has no such start.
+  std::function<void(Config&)> adopt;
   // Ensembles only: how many independent runs, and what the result file gets from them.
   std::function<std::size_t(const Config&)> members;
   std::function<void(const EnsembleResults&, H5mdFile&)> reduce;

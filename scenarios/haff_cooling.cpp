@@ -71,10 +71,12 @@ GRANFLOW_REGISTER_SCENARIO(haff_cooling, Scenario{
   .default_output = "haff.h5md",
   .keys = [](ConfigSchema& s) {
     edmd::declare_gas_keys(s, {});
+    declare_stored_start_keys(s);
     declare_output_time_keys(s, 0.01, 20);
     declare_frame_keys(s, "final", {"none", "final", "all"});
   },
   .build = [](Run& run) { run.config().integer("system.dimension") == 2 ? build<2>(run) : build<3>(run); },
+  .adopt = adopt_stored_state,
 })
 
 }  // namespace granflow::scenarios

@@ -31,6 +31,7 @@
 #include "systems/initial/initial_velocities.hpp"
 #include "systems/initial/lattice_placement.hpp"
 #include "systems/initial/random_placement.hpp"
+#include "systems/initial/stored_start.hpp"
 
 namespace granflow::edmd {
 
@@ -176,7 +177,8 @@ void melt_lattice(World& world, EventDrivenGas<D>& gas, const Vec<D>& bragg_vect
 }
 
 // Fills an empty world (of system.count entities) with the configured gas at
-// t = 0. `customize` may change masses, radii or add components (a mixture's
+// t = 0, or with the stored state initial.from names, as it was stored.
+// `customize` may change masses, radii or add components (a mixture's
 // species) before particles are placed and given velocities.
 // `preparation` hears how far placement and equilibration are and stops
 // them when the run is interrupted.
@@ -186,8 +188,10 @@ void build_gas(World& world, const Config& config, std::uint64_t seed,
   const auto count = static_cast<std::size_t>(config.integer("system.count"));
   const bool on_lattice = config.text("initial.placement") == "lattice";
   const bool compressed = config.text("initial.placement") == "compressed";
+  const bool stored = starts_from_stored_state(config);
+  if (stored && customize) throw std::logic_error("a stored start for a gas of several kinds of particle");
   // Impossible sizes fail here, before anything is allocated.
-  if (!customize && !on_lattice && !compressed) {
+  if (!customize && !on_lattice && !compressed && !stored) {
     const Box<D> box = box_from<D>(config);
     const double fraction =
         static_cast<double>(count) * ball_volume<D>(config.real("system.radius")) / box.volume();
@@ -210,6 +214,12 @@ void build_gas(World& world, const Config& config, std::uint64_t seed,
   if (std::find(box.periodic.begin(), box.periodic.end(), true) != box.periodic.end())
     world.add_component<ImageCount<D>>();
   if (customize) customize(world);
+  if (stored) {
+    const StoredState state = stored_state_of(config);
+    place_stored_state<D>(world, box, state);
+    spdlog::info("started from {}: {} particles", state.source, state.count);
+    return;
+  }
 
   Vec<D> bragg_vector = Vec<D>::Zero();
   if (on_lattice) {

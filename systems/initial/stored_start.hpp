@@ -1,0 +1,163 @@
+#pragma once
+// Starting a run from a stored state (initial.from, initial.frame; see
+// engine/stored_state.hpp for the formats): the scenario's keys that the
+// state determines are set from it before the run reads them, and the
+// particles are put into the world as they were stored, each checked: inside
+// the box (within tolerance at a wall), no two overlapping, the columns the
+// run needs present.
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "components/box.hpp"
+#include "components/mass.hpp"
+#include "components/position.hpp"
+#include "components/radius.hpp"
+#include "components/velocity.hpp"
+#include "engine/config.hpp"
+#include "engine/input_error.hpp"
+#include "engine/stored_state.hpp"
+#include "engine/world.hpp"
+#include "systems/initial/placement_grid.hpp"
+
+namespace granflow {
+
+inline void declare_stored_start_keys(ConfigSchema& schema) {
+  schema
+      .text("initial.from", "",
+            "start from a stored state instead of placing particles: a granflow result file (H5MD), a GSD file "
+            "(HOOMD schema) or an extended XYZ file; its box, particle count, radii, masses and velocities replace "
+            "the system.* and initial.* settings (empty: place particles)")
+      .integer("initial.frame", -1, -1000000000, 1000000000,
+               "the frame of initial.from to start from (0 the first; negative counts from the end, -1 the last)");
+}
+
+inline bool starts_from_stored_state(const Config& config) {
+  return config.schema().find("initial.from") && !config.text("initial.from").empty();
+}
+
+inline StoredState stored_state_of(const Config& config) {
+  return read_stored_state(config.text("initial.from"), config.integer("initial.frame"));
+}
+
+// One value for every particle, or a refusal naming the key that holds one.
+inline double uniform(const std::vector<double>& values, const std::string& what, const std::string& key,
+                      const StoredState& s) {
+  if (values.empty())
+    throw InputError(fmt::format("initial.from: {} has no particle {} (the run needs them)", s.source, what));
+  const auto [low, high] = std::minmax_element(values.begin(), values.end());
+  if (*high > *low * (1 + 1e-12))
+    throw InputError(fmt::format("initial.from: {} holds {} from {} to {}; in this scenario every particle has the "
+                                 "one {} ({})",
+                                 s.source, what, *low, *high, what, key));
+  return *low;
+}
+
+// Sets system.dimension, count, box, boundary, radius and mass (each where
+// the scenario has the key) from the stored state.
+inline void adopt_stored_state(Config& config) {
+  if (!starts_from_stored_state(config)) return;
+  const StoredState s = stored_state_of(config);
+  const auto has = [&](const char* key) { return config.schema().find(key) != nullptr; };
+  if (s.count == 0) throw InputError(fmt::format("initial.from: {} holds no particles", s.source));
+  if (has("system.dimension")) config.set("system.dimension", static_cast<std::int64_t>(s.dimension));
+  if (has("system.count")) config.set("system.count", static_cast<std::int64_t>(s.count));
+  if (has("system.box_length")) {
+    const auto [low, high] = std::minmax_element(s.edges.begin(), s.edges.end());
+    if (*high > *low * (1 + 1e-12))
+      throw InputError(fmt::format("initial.from: {} has a box of edges {}; this scenario's box is a square or cube "
+                                   "(system.box_length)",
+                                   s.source, fmt::join(s.edges, " x ")));
+    config.set("system.box_length", *low);
+  }
+  if (has("system.boundary")) {
+    const auto periodic = static_cast<std::size_t>(std::count(s.periodic.begin(), s.periodic.end(), true));
+    if (periodic != 0 && periodic != s.periodic.size())
+      throw InputError(fmt::format("initial.from: {} is periodic along some axes only; this scenario's boundary is "
+                                   "the same on every axis (system.boundary)",
+                                   s.source));
+    config.set("system.boundary", std::string(periodic ? "periodic" : "reflecting"));
+  }
+  if (has("system.radius")) config.set("system.radius", uniform(s.radius, "radii", "system.radius", s));
+  if (has("system.mass")) config.set("system.mass", uniform(s.mass, "masses", "system.mass", s));
+}
+
+// Puts the stored particles into an empty world over `box` (the box the
+// adopted configuration describes): positions (wrapped along periodic
+// axes), velocities, radii and masses, refusing a particle outside the box
+// or two that overlap.
+template <int D>
+void place_stored_state(World& world, const Box<D>& box, const StoredState& s) {
+  if (s.dimension != static_cast<std::size_t>(D))
+    throw InputError(fmt::format("initial.from: {} is {}D; the run is {}D", s.source, s.dimension, D));
+  if (s.velocity.empty())
+    throw InputError(fmt::format("initial.from: {} has no velocities (H5MD velocity, GSD particles/velocity, "
+                                 "extended XYZ velo, vel or momenta with masses)",
+                                 s.source));
+  if (s.radius.empty() || s.mass.empty())
+    throw InputError(fmt::format("initial.from: {} has no particle {}", s.source, s.radius.empty() ? "radii" : "masses"));
+  world.resize(s.count);
+  auto& position = world.component<Position<D>>().values;
+  auto& velocity = world.component<Velocity<D>>().values;
+  auto& radius = world.component<Radius>().values;
+  auto& mass = world.component<Mass>().values;
+  double largest = 0.0;
+  for (std::size_t i = 0; i < s.count; ++i) {
+    radius[i] = s.radius[i];
+    mass[i] = s.mass[i];
+    largest = std::max(largest, radius[i]);
+    if (!(radius[i] > 0) || !(mass[i] > 0) || !std::isfinite(radius[i]) || !std::isfinite(mass[i]))
+      throw InputError(fmt::format("initial.from: {}: particle {} has radius {} and mass {}; both must be positive",
+                                   s.source, i, radius[i], mass[i]));
+    for (int a = 0; a < D; ++a) {
+      double x = s.position[i * D + static_cast<std::size_t>(a)];
+      const double v = s.velocity[i * D + static_cast<std::size_t>(a)];
+      if (!std::isfinite(x) || !std::isfinite(v))
+        throw InputError(fmt::format("initial.from: {}: particle {} has position or velocity {} along axis {}",
+                                     s.source, i, std::isfinite(x) ? v : x, a));
+      const double length = box.length[static_cast<std::size_t>(a)];
+      // Single-precision formats (GSD) store a position at the edge as the edge.
+      const double slack = 1e-6 * length;
+      if (box.periodic[static_cast<std::size_t>(a)]) {
+        x -= length * std::floor(x / length);
+        if (x >= length) x = 0.0;
+      } else if (x < radius[i] - slack || x > length - radius[i] + slack) {
+        throw InputError(fmt::format("initial.from: {}: particle {} at {} along axis {} is outside the box [0, {}] "
+                                     "(its radius {} must fit)",
+                                     s.source, i, x, a, length, radius[i]));
+      } else {
+        x = std::clamp(x, radius[i], length - radius[i]);
+      }
+      position[i][a] = x;
+      velocity[i][a] = v;
+    }
+  }
+  // No two particles may overlap (beyond round-off of the stored positions).
+  PlacementRegion<D> everywhere;
+  everywhere.upper = box.length;
+  PlacementGrid<D> grid(box, everywhere, 2 * largest, s.count);
+  for (std::size_t i = 0; i < s.count; ++i) {
+    std::size_t other = 0;
+    double distance = 0.0;
+    const bool overlaps = grid.any_near(position[i], [&](std::size_t k) {
+      Vec<D> d = position[i] - position[k];
+      for (int a = 0; a < D; ++a)
+        if (box.periodic[static_cast<std::size_t>(a)]) d[a] -= box.length[a] * std::round(d[a] / box.length[a]);
+      distance = d.norm();
+      other = k;
+      return distance < (radius[i] + radius[k]) * (1 - 1e-9);
+    });
+    if (overlaps)
+      throw InputError(fmt::format("initial.from: {}: particles {} and {} overlap (centres {:.6g} apart, radii {} "
+                                   "and {})",
+                                   s.source, other, i, distance, radius[other], radius[i]));
+    grid.insert(i, position[i]);
+  }
+}
+
+}  // namespace granflow

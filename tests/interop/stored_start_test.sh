@@ -1,0 +1,111 @@
+#!/usr/bin/env bash
+# initial.from: haff_cooling started from the final frame of another run
+# continues it (positions and velocities at t = 0 identical to the stored
+# frame, the same kinetic energy to round-off); started from a GSD file that
+# the gsd package itself wrote (a cubic lattice with velocities), its t = 0
+# frame is that file's (shifted from HOOMD's centred box, to float
+# precision), with the box, count, radius and mass taken over; and stored
+# states that cannot start a run are refused with exit 2 and what is wrong:
+# overlapping particles, a particle outside a walled box, no velocities, a
+# tilted box, a frame that is not there. Skips (77) without the gsd package.
+set -u
+granflow="$1"
+source "$(dirname "$0")/../cli/common.sh"
+if ! /usr/bin/python3 -c "import gsd.hoomd" 2> /dev/null; then
+  echo "skipped: the gsd package is not installed (apt-get install python3-gsd)"
+  exit 77
+fi
+cd "$work"
+"$granflow" run haff_cooling --set run.t_stop=1 -q -o first.h5md || exit 1
+"$granflow" run haff_cooling --set initial.from='"first.h5md"' --set run.t_stop=1 --set output.positions=all -q \
+  -o second.h5md || exit 1
+/usr/bin/python3 - <<'PY' || failures=$((failures + 1))
+import sys
+import gsd.hoomd
+import h5py
+import numpy as np
+a, b = h5py.File("first.h5md", "r"), h5py.File("second.h5md", "r")
+p = "/particles/all/"
+same = all(np.array_equal(a[p + n + "/value"][-1], b[p + n + "/value"][0]) for n in ("position", "velocity"))
+ea, eb = a["/observables/kinetic_energy/value"][-1], b["/observables/kinetic_energy/value"][0]
+print(f"continued from the final frame: positions and velocities identical: {same}; kinetic energy {ea!r} -> {eb!r}")
+if not same or abs(ea - eb) > 1e-12 * ea or b[p + "position/time"][0] != 0.0:
+    sys.exit("FAIL: the continued run does not start from the stored frame")
+
+# A state written by the gsd package: 512 spheres on a cubic lattice in a box
+# of 2, radius 0.05 (diameter 0.1), mass 2, random velocities.
+rng = np.random.default_rng(7)
+n, length = 512, 2.0
+grid = (np.arange(8) + 0.5) * length / 8 - length / 2
+position = np.array([[x, y, z] for x in grid for y in grid for z in grid], dtype=np.float32)
+frame = gsd.hoomd.Frame() if hasattr(gsd.hoomd, "Frame") else gsd.hoomd.Snapshot()
+frame.configuration.box = [length, length, length, 0, 0, 0]
+frame.particles.N = n
+frame.particles.types = ["A"]
+frame.particles.typeid = np.zeros(n, dtype=np.uint32)
+frame.particles.position = position
+frame.particles.velocity = rng.normal(size=(n, 3)).astype(np.float32)
+frame.particles.mass = np.full(n, 2.0, dtype=np.float32)
+frame.particles.diameter = np.full(n, 0.1, dtype=np.float32)
+with gsd.hoomd.open("lattice.gsd", "wb") as f:
+    f.append(frame)
+tilted = frame
+tilted.configuration.box = [length, length, length, 0.1, 0, 0]
+with gsd.hoomd.open("tilted.gsd", "wb") as f:
+    f.append(tilted)
+PY
+"$granflow" run haff_cooling --set initial.from='"lattice.gsd"' --set run.t_stop=0.2 --set output.positions=all -q \
+  -o from_gsd.h5md || { echo "FAIL: run from the gsd package's file"; failures=$((failures + 1)); }
+/usr/bin/python3 - <<'PY' || failures=$((failures + 1))
+import sys
+import gsd.hoomd
+import h5py
+import numpy as np
+with gsd.hoomd.open("lattice.gsd", "rb") as t:
+    g = t[0]
+f = h5py.File("from_gsd.h5md", "r")
+p = f["/particles/all"]
+x0, v0 = p["position/value"][0], p["velocity/value"][0]
+system = f["/parameters/system"].attrs
+ok = (np.abs(x0 - (g.particles.position + 1.0)).max() < 1e-6 and np.array_equal(v0, g.particles.velocity.astype(float))
+      and system["count"] == 512 and system["box_length"] == 2.0 and abs(system["radius"] - 0.05) < 1e-8
+      and system["mass"] == 2.0)  # the diameter is single precision in GSD
+print(f"started from the gsd package's file: positions within {np.abs(x0 - (g.particles.position + 1.0)).max():.2g}, "
+      f"count {system['count']}, box {system['box_length']}, radius {system['radius']}, mass {system['mass']}")
+sys.exit(0 if ok else "FAIL: the run did not start from the GSD frame")
+PY
+
+# States that cannot start a run.
+"$granflow" run haff_cooling --set system.boundary='"reflecting"' --set run.t_stop=0.2 -q -o walled.h5md || exit 1
+/usr/bin/python3 - <<'PY'
+import shutil
+import h5py
+def edit(source, target, change):
+    shutil.copy(source, target)
+    with h5py.File(target, "r+") as f:
+        change(f["/particles/all"])
+def move(particles, i, where):
+    x = particles["position/value"]
+    frame = x[-1]
+    frame[i] = where(frame)
+    x[-1] = frame
+edit("first.h5md", "overlap.h5md", lambda p: move(p, 7, lambda frame: frame[3] + 0.01))
+edit("walled.h5md", "outside.h5md", lambda p: move(p, 5, lambda frame: [1.2, 0.5, 0.5]))
+edit("first.h5md", "still.h5md", lambda p: p.__delitem__("velocity"))
+PY
+expect_refusal() {  # expect_refusal "what the message must contain" file [more --set]
+  local needle="$1" file="$2"; shift 2
+  local output status
+  output=$("$granflow" run haff_cooling --set initial.from="\"$file\"" --set run.t_stop=0.1 "$@" -o x.h5md 2>&1)
+  status=$?
+  if [[ $status -eq 2 && "$output" == *"$needle"* ]]; then echo "ok: $file $* -> $needle"
+  else echo "FAIL: $file $*: exit $status: $output"; failures=$((failures + 1)); fi
+}
+expect_refusal "particles 3 and 7 overlap" overlap.h5md
+expect_refusal "particle 5 at 1.2 along axis 0 is outside the box [0, 1]" outside.h5md
+expect_refusal "has no velocities" still.h5md
+expect_refusal "the box is tilted" tilted.gsd
+expect_refusal "initial.frame = 3: 'first.h5md' holds 1 frames" first.h5md --set initial.frame=3
+expect_refusal "initial.from = 'absent.gsd': the file does not exist" absent.gsd
+echo "$failures failure(s)"
+[[ $failures -eq 0 ]]
