@@ -32,6 +32,7 @@
 #include "engine/units.hpp"
 #include "systems/dem/compartments.hpp"
 #include "systems/dem/dem_setup.hpp"
+#include "systems/initial/stored_start.hpp"
 #include "systems/dem/height_profiles.hpp"
 
 namespace granflow::scenarios {
@@ -96,11 +97,16 @@ void build(Run& run) {
     return per_layer > 0 ? std::ceil((static_cast<double>(n) / 2 + 1) / per_layer) : 1e300;
   };
   const double top = floor_clearance + spacing * std::max(layers_needed(0), layers_needed(1));
-  if (top > box[2] - radius)
+  const bool stored = starts_from_stored_state(c);
+  if (!stored && top > box[2] - radius)
     throw ConfigError(fmt::format("system.count = {} spheres of radius {} do not fit below the top of the box "
                                   "(system.box z = {})", n, radius, box[2]));
   run.initial_state([&](World& world) {
     auto [x, v] = dem::add_spheres(world, n, radius, mass);
+    if (stored) {
+      place_stored_state<D>(world, box, {false, false, false}, stored_state_of(c), dem::stored_state_limits);
+      return;
+    }
     std::array<std::size_t, 2> placed{};
     for (std::size_t i = 0; i < n; ++i) {
       const std::size_t side = i % 2;
@@ -169,6 +175,7 @@ GRANFLOW_REGISTER_SCENARIO(shaken_bed, Scenario{
   .keys = [](ConfigSchema& s) {
     constexpr double inf = std::numeric_limits<double>::infinity();
     dem::declare_dem_keys(s, dem::DemDefaults{});
+    declare_stored_start_keys(s);
     s.real("divider.position", 0.0, 0.0, inf, "x of the divider (0: the middle of the box)")
         .real("divider.height", 8.0, 0.0, inf, "the divider reaches from the floor to this height (0: no divider)")
         .real("output.average_after", 100.0, 0.0, inf, "time after which a and |a| are averaged (the attributes "
@@ -177,6 +184,7 @@ GRANFLOW_REGISTER_SCENARIO(shaken_bed, Scenario{
     s.unit("divider.position", unit::length).unit("divider.height", unit::length).unit("output.average_after", unit::time);
   },
   .build = build,
+  .adopt = adopt_stored_state,
 })
 
 }  // namespace granflow::scenarios

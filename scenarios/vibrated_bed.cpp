@@ -34,6 +34,7 @@
 #include "engine/units.hpp"
 #include "systems/dem/dem_setup.hpp"
 #include "systems/dem/height_profiles.hpp"
+#include "systems/initial/stored_start.hpp"
 
 namespace granflow::scenarios {
 namespace {
@@ -72,31 +73,38 @@ void build(Run& run) {
     ceiling.amplitude = 0.0;
     walls = {floor, ceiling};
   }
-  // The lattice sites (a, b, k) * spacing inside the fill region, in order.
-  const double spacing = std::cbrt(1.0 / c.real("bed.lattice_density"));
-  const auto& fill = c.reals("bed.fill");
-  if (fill.size() != 6)
-    throw ConfigError(fmt::format("bed.fill has {} entries; it needs [x0, x1, y0, y1, z0, z1]", fill.size()));
-  // The sites visited, counted before the loop that visits them.
-  double visits = 1.0;
-  for (std::size_t a = 1; a < 6; a += 2) visits *= std::max(0.0, std::floor(fill[a] / spacing)) + 1.0;
-  if (!(visits <= 1e8))
-    throw ConfigError(fmt::format("bed.lattice_density = {} over bed.fill gives {:.3g} lattice sites to visit; at most "
-                                  "1e8", c.real("bed.lattice_density"), visits));
-  std::vector<Vec<D>> sites;
-  for (int k = 0; k * spacing < fill[5]; ++k)
-    for (int b = 0; b * spacing < fill[3]; ++b)
-      for (int a = 0; a * spacing < fill[1]; ++a) {
-        const Vec<D> p(a * spacing, b * spacing, k * spacing);
-        if (p[0] >= fill[0] && p[1] >= fill[2] && p[2] >= fill[4]) sites.push_back(p);
-      }
   const auto n = static_cast<std::size_t>(c.integer("system.count"));
-  if (n > sites.size())
-    throw ConfigError(fmt::format("system.count = {} exceeds the {} lattice sites of bed.fill at bed.lattice_density "
-                                  "= {}", n, sites.size(), c.real("bed.lattice_density")));
+  const bool stored = starts_from_stored_state(c);
+  std::vector<Vec<D>> sites;
+  if (!stored) {
+    // The lattice sites (a, b, k) * spacing inside the fill region, in order.
+    const double spacing = std::cbrt(1.0 / c.real("bed.lattice_density"));
+    const auto& fill = c.reals("bed.fill");
+    if (fill.size() != 6)
+      throw ConfigError(fmt::format("bed.fill has {} entries; it needs [x0, x1, y0, y1, z0, z1]", fill.size()));
+    // The sites visited, counted before the loop that visits them.
+    double visits = 1.0;
+    for (std::size_t a = 1; a < 6; a += 2) visits *= std::max(0.0, std::floor(fill[a] / spacing)) + 1.0;
+    if (!(visits <= 1e8))
+      throw ConfigError(fmt::format("bed.lattice_density = {} over bed.fill gives {:.3g} lattice sites to visit; at "
+                                    "most 1e8", c.real("bed.lattice_density"), visits));
+    for (int k = 0; k * spacing < fill[5]; ++k)
+      for (int b = 0; b * spacing < fill[3]; ++b)
+        for (int a = 0; a * spacing < fill[1]; ++a) {
+          const Vec<D> p(a * spacing, b * spacing, k * spacing);
+          if (p[0] >= fill[0] && p[1] >= fill[2] && p[2] >= fill[4]) sites.push_back(p);
+        }
+    if (n > sites.size())
+      throw ConfigError(fmt::format("system.count = {} exceeds the {} lattice sites of bed.fill at bed.lattice_density "
+                                    "= {}", n, sites.size(), c.real("bed.lattice_density")));
+  }
   const double temperature = c.real("bed.temperature");
   run.initial_state([&](World& world) {
     auto [x, v] = dem::add_spheres(world, n, radius, mass);
+    if (stored) {
+      place_stored_state<D>(world, box, {true, true, false}, stored_state_of(c), dem::stored_state_limits);
+      return;
+    }
     Vec<D> mean = Vec<D>::Zero();
     for (std::size_t i = 0; i < n; ++i) {
       x[i] = sites[i];
@@ -146,6 +154,7 @@ GRANFLOW_REGISTER_SCENARIO(vibrated_bed, Scenario{
     d.output_interval = 1.0;
     d.motion = "wiggle";
     dem::declare_dem_keys(s, d);
+    declare_stored_start_keys(s);
     s.real("contact.damping_rate", 50.0, 0.0, inf,
            "LAMMPS's gamma_n: damping force m_eff gamma_n times the normal speed (0: from contact.restitution)")
         .real("output.average_after", 2.0, 0.0, inf,
@@ -159,6 +168,7 @@ GRANFLOW_REGISTER_SCENARIO(vibrated_bed, Scenario{
         .unit("bed.temperature", unit::energy).unit("output.average_after", unit::time);
   },
   .build = build,
+  .adopt = adopt_stored_state,
 })
 
 }  // namespace granflow::scenarios

@@ -29,6 +29,7 @@
 #include "engine/config.hpp"
 #include "engine/input_error.hpp"
 #include "engine/run.hpp"
+#include "systems/initial/stored_start.hpp"
 #include "systems/observables/particle_frames.hpp"
 #include "engine/units.hpp"
 #include "systems/dem/contact_forces.hpp"
@@ -168,6 +169,12 @@ inline std::vector<DemWall> walls_from(const Config& c, const std::array<double,
   }
   return walls;
 }
+
+// A stored state (initial.from) of soft spheres: contacts may overlap by a
+// little (beyond half a radius, no contact law of a settled bed does), and
+// spheres rest against walls inside the box rather than a radius from its
+// edges (the walls' own check, add_dem_step, then holds them to the walls).
+inline constexpr StoredStateLimits stored_state_limits{0.5, false};
 
 // The columns of `n` spheres of one radius and mass (positions and
 // velocities left for the caller), for a scenario's initial state.

@@ -216,7 +216,7 @@ void build_gas(World& world, const Config& config, std::uint64_t seed,
   if (customize) customize(world);
   if (stored) {
     const StoredState state = stored_state_of(config);
-    place_stored_state<D>(world, box, state);
+    place_stored_state<D>(world, box.length, box.periodic, state);
     spdlog::info("started from {}: {} particles", state.source, state.count);
     return;
   }

@@ -58,8 +58,9 @@ inline double uniform(const std::vector<double>& values, const std::string& what
   return *low;
 }
 
-// Sets system.dimension, count, box, boundary, radius and mass (each where
-// the scenario has the key) from the stored state.
+// Sets system.dimension, count, box (system.box_length or system.box),
+// boundary, and the radius and mass (system.* or particle.*), each where the
+// scenario has the key, from the stored state.
 inline void adopt_stored_state(Config& config) {
   if (!starts_from_stored_state(config)) return;
   const StoredState s = stored_state_of(config);
@@ -75,6 +76,7 @@ inline void adopt_stored_state(Config& config) {
                                    s.source, fmt::join(s.edges, " x ")));
     config.set("system.box_length", *low);
   }
+  if (has("system.box")) config.set("system.box", s.edges);
   if (has("system.boundary")) {
     const auto periodic = static_cast<std::size_t>(std::count(s.periodic.begin(), s.periodic.end(), true));
     if (periodic != 0 && periodic != s.periodic.size())
@@ -83,16 +85,29 @@ inline void adopt_stored_state(Config& config) {
                                    s.source));
     config.set("system.boundary", std::string(periodic ? "periodic" : "reflecting"));
   }
-  if (has("system.radius")) config.set("system.radius", uniform(s.radius, "radii", "system.radius", s));
-  if (has("system.mass")) config.set("system.mass", uniform(s.mass, "masses", "system.mass", s));
+  for (const char* key : {"system.radius", "particle.radius"})
+    if (has(key)) config.set(key, uniform(s.radius, "radii", key, s));
+  for (const char* key : {"system.mass", "particle.mass"})
+    if (has(key)) config.set(key, uniform(s.mass, "masses", key, s));
 }
 
-// Puts the stored particles into an empty world over `box` (the box the
-// adopted configuration describes): positions (wrapped along periodic
-// axes), velocities, radii and masses, refusing a particle outside the box
-// or two that overlap.
+// How far a stored state may depart from a hard-sphere one: soft spheres
+// (DEM) may overlap a little and rest against walls inside the box.
+struct StoredStateLimits {
+  double overlap = 0.0;       // of the smaller radius
+  bool radius_fits = true;    // along a closed axis, the whole sphere inside [0, L]
+};
+
+// Puts the stored particles into an empty world over a box of `edges` (the
+// box the adopted configuration describes): positions (wrapped along
+// `periodic` axes), velocities, radii and masses, refusing a particle
+// outside the box or two that overlap beyond the limits.
 template <int D>
-void place_stored_state(World& world, const Box<D>& box, const StoredState& s) {
+void place_stored_state(World& world, const std::array<double, D>& edges, const std::array<bool, D>& periodic,
+                        const StoredState& s, const StoredStateLimits& limits = {}) {
+  Box<D> box;
+  box.length = edges;
+  box.periodic = periodic;
   if (s.dimension != static_cast<std::size_t>(D))
     throw InputError(fmt::format("initial.from: {} is {}D; the run is {}D", s.source, s.dimension, D));
   if (s.velocity.empty())
@@ -126,12 +141,13 @@ void place_stored_state(World& world, const Box<D>& box, const StoredState& s) {
       if (box.periodic[static_cast<std::size_t>(a)]) {
         x -= length * std::floor(x / length);
         if (x >= length) x = 0.0;
-      } else if (x < radius[i] - slack || x > length - radius[i] + slack) {
-        throw InputError(fmt::format("initial.from: {}: particle {} at {} along axis {} is outside the box [0, {}] "
-                                     "(its radius {} must fit)",
-                                     s.source, i, x, a, length, radius[i]));
       } else {
-        x = std::clamp(x, radius[i], length - radius[i]);
+        const double margin = limits.radius_fits ? radius[i] : 0.0;
+        if (x < margin - slack || x > length - margin + slack)
+          throw InputError(fmt::format("initial.from: {}: particle {} at {} along axis {} is outside the box [0, {}]{}",
+                                       s.source, i, x, a, length,
+                                       limits.radius_fits ? fmt::format(" (its radius {} must fit)", radius[i]) : ""));
+        x = std::clamp(x, margin, length - margin);
       }
       position[i][a] = x;
       velocity[i][a] = v;
@@ -150,12 +166,15 @@ void place_stored_state(World& world, const Box<D>& box, const StoredState& s) {
         if (box.periodic[static_cast<std::size_t>(a)]) d[a] -= box.length[a] * std::round(d[a] / box.length[a]);
       distance = d.norm();
       other = k;
-      return distance < (radius[i] + radius[k]) * (1 - 1e-9);
+      const double allowed = limits.overlap * std::min(radius[i], radius[k]) + 1e-9 * (radius[i] + radius[k]);
+      return distance < radius[i] + radius[k] - allowed;
     });
     if (overlaps)
       throw InputError(fmt::format("initial.from: {}: particles {} and {} overlap (centres {:.6g} apart, radii {} "
-                                   "and {})",
-                                   s.source, other, i, distance, radius[other], radius[i]));
+                                   "and {}{})",
+                                   s.source, other, i, distance, radius[other], radius[i],
+                                   limits.overlap > 0 ? fmt::format("; at most {} of a radius is allowed", limits.overlap)
+                                                      : ""));
     grid.insert(i, position[i]);
   }
 }

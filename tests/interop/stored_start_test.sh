@@ -7,7 +7,8 @@
 # precision), with the box, count, radius and mass taken over; and stored
 # states that cannot start a run are refused with exit 2 and what is wrong:
 # overlapping particles, a particle outside a walled box, no velocities, a
-# tilted box, a frame that is not there. Skips (77) without the gsd package.
+# tilted box, a frame that is not there. The soft-sphere beds continue from
+# their final frames too. Skips (77) without the gsd package.
 set -u
 granflow="$1"
 source "$(dirname "$0")/../cli/common.sh"
@@ -74,6 +75,25 @@ print(f"started from the gsd package's file: positions within {np.abs(x0 - (g.pa
       f"count {system['count']}, box {system['box_length']}, radius {system['radius']}, mass {system['mass']}")
 sys.exit(0 if ok else "FAIL: the run did not start from the GSD frame")
 PY
+
+# Soft spheres: a vibrated bed continued from its final frame (periodic
+# sideways, images and all), and a shaken bed from its own.
+for bed in vibrated_bed shaken_bed; do
+  small=(--set system.count=200 --set run.t_stop=0.5 --set output.interval=0.25 --set output.average_after=0.25)
+  "$granflow" run $bed "${small[@]}" --set output.positions=all -q -o "$bed.h5md" || exit 1
+  "$granflow" run $bed "${small[@]}" --set initial.from="\"$bed.h5md\"" --set output.positions=all -q \
+    -o "${bed}_2.h5md" || { echo "FAIL: $bed from its own final frame"; failures=$((failures + 1)); continue; }
+  /usr/bin/python3 - "$bed.h5md" "${bed}_2.h5md" <<'PY' || failures=$((failures + 1))
+import sys
+import h5py
+import numpy as np
+a, b = (h5py.File(p, "r") for p in sys.argv[1:3])
+p = "/particles/all/"
+same = all(np.array_equal(a[p + n + "/value"][-1], b[p + n + "/value"][0]) for n in ("position", "velocity"))
+print(f"{sys.argv[2]}: starts from {sys.argv[1]}'s final frame: {same}")
+sys.exit(0 if same else "FAIL: not the stored frame")
+PY
+done
 
 # States that cannot start a run.
 "$granflow" run haff_cooling --set system.boundary='"reflecting"' --set run.t_stop=0.2 -q -o walled.h5md || exit 1
