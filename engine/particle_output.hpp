@@ -66,7 +66,8 @@ std::vector<std::int32_t> flatten_integers_by_id(const Column& column, const std
 inline void write_particle_constants(H5mdFile& file, const World& world) {
   const auto order = storage_order(world);
   file.write_particle_constant("mass", flatten_by_id(world.component<Mass>(), order), 1, unit::mass);
-  file.write_particle_constant("radius", flatten_by_id(world.component<Radius>(), order), 1, unit::length);
+  if (world.has_component<Radius>())
+    file.write_particle_constant("radius", flatten_by_id(world.component<Radius>(), order), 1, unit::length);
   std::vector<std::int32_t> id(world.size());
   std::iota(id.begin(), id.end(), 0);
   file.write_particle_constant("id", id);

@@ -15,6 +15,7 @@
 #include "engine/run.hpp"
 #include "engine/scenario.hpp"
 #include "systems/srd/srd_fields.hpp"
+#include "systems/srd/srd_frames.hpp"
 #include "systems/srd/srd_setup.hpp"
 #include "systems/srd/srd_state_observer.hpp"
 #include "systems/srd/velocity_distribution.hpp"
@@ -48,6 +49,7 @@ void build(Run& run) {
   run.derive("initial_temperature", c.real("srd.temperature"));
   const auto outputs =
       std::make_shared<AtSteps>(log_steps(c.integer("run.steps"), static_cast<int>(c.integer("output.points_per_decade"))));
+  srd::add_srd_frames<D>(run, outputs);
   srd::observe_state<D>(run, outputs);
   const auto bins = static_cast<std::size_t>(c.integer("output.distribution_bins"));
   run.observe<srd::VelocityDistributionObserver<D>>(outputs, bins);
@@ -82,6 +84,7 @@ GRANFLOW_REGISTER_SCENARIO(gsrd_cooling, Scenario{
     d.diameter = 1.0;
     d.steps = 20000;
     srd::declare_srd_keys(s, d);
+    declare_frame_keys(s, "none");
     s.integer("output.points_per_decade", 20, 1, 1000, "outputs per decade of steps");
     s.integer("output.distribution_bins", 40, 2, 100000, "bins of velocity_distribution in c = |v - <v>| / v_T, over [0, 4)");
   },

@@ -26,6 +26,7 @@
 #include "systems/srd/srd_fields.hpp"
 #include "systems/srd/srd_height_observer.hpp"
 #include "systems/srd/srd_profiles.hpp"
+#include "systems/srd/srd_frames.hpp"
 #include "systems/srd/srd_setup.hpp"
 #include "systems/srd/srd_state_observer.hpp"
 #include "systems/srd/srd_watchdog.hpp"
@@ -86,6 +87,7 @@ void build(Run& run) {
   run.keep("energy", *ledger);
   run.observe<srd::SrdEnergyAccount<D>>(std::make_shared<EverySteps>(1, 1), ledger);
   const auto outputs = std::make_shared<EverySteps>(every);
+  srd::add_srd_frames<D>(run, outputs);
   run.observe<srd::SrdEnergyObserver<D>>(outputs, ledger, g);
   run.observe<srd::SrdEnergyWatch>(outputs);
   srd::observe_state<D>(run, outputs);
@@ -144,6 +146,7 @@ GRANFLOW_REGISTER_SCENARIO(gsrd_shaken, Scenario{
     d.diameter = 0.2;
     d.steps = 5000;
     srd::declare_srd_keys(s, d);
+    declare_frame_keys(s, "none");
     srd::declare_srd_wall_keys(s);
     s.real("shaking.amplitude", 2.0, 0.0, 1e6, "amplitude A of the floor's motion A sin(2 pi f t)")
         .real("shaking.frequency", 0.1, 0.0, 1e6, "frequency f of the floor's motion")

@@ -19,6 +19,7 @@
 #include "engine/scenario.hpp"
 #include "systems/srd/srd_fields.hpp"
 #include "systems/srd/srd_profiles.hpp"
+#include "systems/srd/srd_frames.hpp"
 #include "systems/srd/srd_setup.hpp"
 #include "systems/srd/srd_state_observer.hpp"
 #include "systems/srd/srd_theory.hpp"
@@ -92,6 +93,7 @@ void build(Run& run) {
   run.keep("profiles", *sums);
   run.observe<srd::SrdProfileSampler<D>>(std::make_shared<EverySteps>(1, warmup + 1), 1, 0, sums);
   const auto outputs = std::make_shared<EverySteps>(c.integer("output.every_steps"), warmup + c.integer("output.every_steps"));
+  srd::add_srd_frames<D>(run, outputs);
   run.observe<srd::SrdProfileObserver<D>>(outputs, layer_volume, 1.0, sums);
   srd::observe_state<D>(run, std::make_shared<EverySteps>(c.integer("output.every_steps")));
   const double g = acceleration[0];
@@ -152,6 +154,7 @@ GRANFLOW_REGISTER_SCENARIO(srd_poiseuille, Scenario{
     d.thermostat = 1.0;
     d.steps = 6000;
     srd::declare_srd_keys(s, d);
+    declare_frame_keys(s, "none");
     srd::declare_srd_wall_keys(s);
     s.integer("output.every_steps", 250, 1, 1000000000, "steps between outputs (profile blocks)")
         .integer("poiseuille.warmup_steps", 1000, 0, 1000000000, "steps before the profiles are sampled");

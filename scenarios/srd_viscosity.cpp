@@ -17,6 +17,7 @@
 #include "engine/units.hpp"
 #include "systems/srd/shear_viscosity.hpp"
 #include "systems/srd/srd_fields.hpp"
+#include "systems/srd/srd_frames.hpp"
 #include "systems/srd/srd_setup.hpp"
 #include "systems/srd/srd_state_observer.hpp"
 #include "systems/srd/srd_theory.hpp"
@@ -48,6 +49,7 @@ void build(Run& run) {
   run.keep("shear_stress", *sums);
   run.observe<srd::ShearStressSampler<D>>(std::make_shared<EverySteps>(1, warmup + 1), sums);
   const auto outputs = std::make_shared<EverySteps>(every);
+  srd::add_srd_frames<D>(run, outputs);
   srd::observe_state<D>(run, outputs);
   run.observe<srd::ShearViscosityObserver<D>>(outputs, sums);
   run.at_finish([sums, &run, n = static_cast<double>(run.world().size())](H5mdFile& file, const RunOutcome&) {
@@ -85,6 +87,7 @@ GRANFLOW_REGISTER_SCENARIO(srd_viscosity, Scenario{
     d.thermostat = 0.8;
     d.steps = 20000;
     srd::declare_srd_keys(s, d);
+    declare_frame_keys(s, "none");
     s.integer("output.every_steps", 500, 1, 1000000000, "steps between outputs")
         .integer("viscosity.warmup_steps", 2000, 0, 1000000000, "steps before the stress is sampled")
         .integer("viscosity.block_steps", 200, 1, 1000000000, "steps per block of the standard errors");

@@ -265,7 +265,9 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = 
   SrdCellBinning<D>::assign(run.world(), state);
   SrdCellReduction<D>::reduce(run.world(), state);
   std::vector<double> edges(cells.begin(), cells.end());
-  run.box(edges, std::vector<std::string>(D, "periodic"));
+  std::vector<std::string> boundary;
+  for (int a = 0; a < D; ++a) boundary.push_back(state.bounded & (1u << a) ? "none" : "periodic");
+  run.box(edges, boundary);
   const double dt = c.real("srd.time_step");
   const double hottest = std::max(temperature, c.real("thermostat.temperature"));
   const auto interval = c.integer("srd.reorder_interval") > 0

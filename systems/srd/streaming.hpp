@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "components/clock.hpp"
+#include "components/image_count.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
 #include "engine/run_control.hpp"
@@ -48,7 +49,9 @@ class SrdStreaming : public System {
     cells.shear.velocity = rate * cells.length[1];
     cells.shear.offset = std::fmod(cells.shear.velocity * time, cells.length[0]);
   }
-  Access access() const override { return Access{}.writes<Position<D>, Velocity<D>, Clock, SrdCells<D>, RunControl>(); }
+  Access access() const override {
+    return Access{}.writes<Position<D>, Velocity<D>, ImageCount<D>, Clock, SrdCells<D>, RunControl>();
+  }
 
   void run(World& world) override {
     auto& clock = world.resource<Clock>();
@@ -59,12 +62,16 @@ class SrdStreaming : public System {
     set_shear(cells, shear_rate_, clock.time);
     double* x = world.component<Position<D>>().data()->data();
     double* v = world.component<Velocity<D>>().data()->data();
+    // Counted only where the run writes particle frames (srd_frames.hpp).
+    std::int32_t* images =
+        world.has_component<ImageCount<D>>() ? world.component<ImageCount<D>>().values.data()->data() : nullptr;
     const Shear shear = cells.shear;
     const double* length = cells.length.data();
     const double dt = dt_;
     if (cells.walls.empty() && !force_.any()) {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 4096), [&](const auto& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) stream_particle<D>(x + D * i, v + D * i, dt, length, shear);
+        for (std::size_t i = range.begin(); i != range.end(); ++i)
+          stream_particle<D>(x + D * i, v + D * i, dt, length, shear, images ? images + D * i : nullptr);
       });
       return;
     }
@@ -93,7 +100,10 @@ class SrdStreaming : public System {
           here += static_cast<std::uint64_t>(reflections);
           stranded += reflections == most_reflections ? 1 : 0;
           for (int a = 0; a < D; ++a)
-            if (!(bounded & (1u << a))) xi[a] = wrapped(xi[a], length[a]);
+            if (!(bounded & (1u << a))) {
+              if (images) images[D * i + static_cast<std::size_t>(a)] += static_cast<std::int32_t>(periods_out(xi[a], length[a]));
+              xi[a] = wrapped(xi[a], length[a]);
+            }
         }
         chunk_reflections_[k] = here;
         chunk_stranded_[k] = stranded;

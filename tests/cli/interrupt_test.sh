@@ -74,11 +74,13 @@ DELAY=2 check shaken shaken_bed.toml "" \
 DELAY=1.5 check vibrated vibrated_bed.toml "" --set system.count=4000 --set run.t_stop=10 --set output.interval=0.5 \
   --set output.average_after=1 --set output.positions=all
 DELAY=1 check gsrd_cooling gsrd_cooling.toml "" --set 'system.cells=[16,16,16]' --set run.steps=3000 \
-  --set fields.every_steps=100
+  --set fields.every_steps=100 --set output.positions=first_last
 DELAY=1 check gsrd_shaken gsrd_shaken.toml "" --set 'system.cells=[8,8,40]' --set run.steps=2500 \
-  --set fields.every_steps=100 --set fields.window=20
-DELAY=1 check srd_viscosity srd_viscosity.toml "" --set run.steps=12000 --set fields.every_steps=500
-DELAY=1 check srd_poiseuille srd_poiseuille.toml "" --set run.steps=8000 --set fields.every_steps=500
+  --set fields.every_steps=100 --set fields.window=20 --set output.positions=all
+DELAY=1 check srd_viscosity srd_viscosity.toml "" --set run.steps=12000 --set fields.every_steps=500 \
+  --set output.positions=first_last
+DELAY=1 check srd_poiseuille srd_poiseuille.toml "" --set run.steps=8000 --set fields.every_steps=500 \
+  --set output.positions=first_last
 
 # A finished run extends: the same result as one run to the later stop.
 extend() {  # extend NAME TOML STOP_KEY FIRST SECOND ARGS...

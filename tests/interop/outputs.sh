@@ -6,8 +6,8 @@
 #   crater     event-driven disks, 2D, walls, two species
 #   shaken     soft spheres, 3D, walls on every side
 #   vibrated   soft spheres, 3D, periodic in x and y, a vibrating floor
-#   gsrd       SRD fields, 3D
-#   srd2d      SRD fields, 2D
+#   gsrd       SRD particles and fields, 3D, periodic
+#   srd2d      SRD particles and fields, 2D, sheared (Lees-Edwards)
 #   outputs.sh GRANFLOW SCENARIOS_DIR OUTPUT_DIR
 set -eu
 granflow="$1"
@@ -21,10 +21,11 @@ run crater_impact crater --set system.count=500 --set run.t_stop=0.02 --set outp
 run shaken_bed shaken --set system.count=50 --set run.t_stop=2 --set output.average_after=1 --set output.positions=all
 run vibrated_bed vibrated --set system.count=200 --set run.t_stop=1 --set output.interval=0.25 \
   --set output.average_after=0.25 --set output.positions=all
-run gsrd_cooling gsrd --set 'system.cells=[8,8,8]' --set run.steps=40 --set fields.every_steps=20 --set fields.window=5
+run gsrd_cooling gsrd --set 'system.cells=[8,8,8]' --set run.steps=40 --set fields.every_steps=20 --set fields.window=5 \
+  --set output.points_per_decade=5 --set output.positions=all
 run srd_viscosity srd2d --set 'system.cells=[8,8]' --set run.steps=300 --set viscosity.warmup_steps=100 \
-  --set fields.every_steps=100
-for name in haff crater shaken vibrated; do
+  --set fields.every_steps=100 --set output.every_steps=100 --set output.positions=all
+for name in haff crater shaken vibrated gsrd srd2d; do
   for format in xyz gsd xdmf; do "$granflow" export "$out/$name.h5md" --format "$format" 2> /dev/null; done
 done
 echo "result files and exports in $out"

@@ -1,0 +1,52 @@
+#pragma once
+// Particle frames of an SRD fluid (output.positions): the particles are
+// given ids in the order of the initial state, so that every frame lists
+// them in that order however the binning sorts them in memory, and they
+// count their periodic images (the streaming adds each step's), so that
+// frames unwrap. The masses and ids are written at the end; the particles
+// are points (no radius). The device step does not follow particles by id:
+// frames there are refused.
+
+#include <fmt/format.h>
+
+#include <numeric>
+#include <vector>
+
+#include "components/image_count.hpp"
+#include "components/particle_id.hpp"
+#include "engine/config.hpp"
+#include "engine/h5md_file.hpp"
+#include "engine/run.hpp"
+#include "engine/units.hpp"
+#include "systems/observables/particle_frames.hpp"
+#include "systems/srd/srd_cells.hpp"
+
+namespace granflow::srd {
+
+template <int D>
+void add_srd_frames(Run& run, const TriggerPtr& outputs) {
+  const Config& c = run.config();
+  if (c.text("output.positions") == "none") return;
+  if (c.text("srd.device") != "cpu")
+    throw ConfigError(fmt::format("output.positions = \"{}\" needs srd.device = \"cpu\": the device step does not "
+                                  "follow the particles by id",
+                                  c.text("output.positions")));
+  World& world = run.world();
+  // A resumed run has both from its checkpoint.
+  if (!world.has_component<ParticleId>()) {
+    auto& id = world.add_component<ParticleId>().values;
+    std::iota(id.begin(), id.end(), 0u);
+  }
+  if (!world.has_component<ImageCount<D>>())
+    for (auto& image : world.add_component<ImageCount<D>>().values) image.setZero();
+  add_particle_frames<D>(run, outputs);
+  const double mass = world.resource<SrdCells<D>>().particle_mass;
+  run.at_finish([&world, mass](H5mdFile& file, const RunOutcome&) {
+    file.write_particle_constant("mass", std::vector<double>(world.size(), mass), 1, unit::mass);
+    std::vector<std::int32_t> id(world.size());
+    std::iota(id.begin(), id.end(), 0);
+    file.write_particle_constant("id", id);
+  });
+}
+
+}  // namespace granflow::srd
