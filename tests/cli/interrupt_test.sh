@@ -71,7 +71,7 @@ DELAY=1.5 check langevin langevin_msd.toml "msd time_averaged_msd ergodicity_bre
 # Soft spheres and SRD: every dataset, particle frames and fields included.
 DELAY=2 check shaken shaken_bed.toml "" \
   --set run.t_stop=60 --set output.average_after=10 --set contact.friction=0.5 --set output.positions=all
-DELAY=1.5 check vibrated vibrated_bed.toml "" --set system.count=4000 --set run.t_stop=10 --set output.interval=0.5 \
+DELAY=1.5 check vibrated vibrated_bed.toml "" --set system.count=4000 --set run.t_stop=20 --set output.interval=0.5 \
   --set output.average_after=1 --set output.positions=all
 DELAY=1 check gsrd_cooling gsrd_cooling.toml "" --set 'system.cells=[16,16,16]' --set run.steps=3000 \
   --set fields.every_steps=100 --set output.positions=first_last
