@@ -156,6 +156,7 @@ GRANFLOW_REGISTER_SCENARIO(gsrd_shaken, Scenario{
     s.unit("shaking.amplitude", unit::length).unit("shaking.frequency", unit::rate).unit("shaking.gravity", unit::acceleration);
   },
   .build = [](Run& run) { run.config().integer("system.dimension") == 2 ? build<2>(run) : build<3>(run); },
+  .adopt = adopt_stored_state,
 })
 
 }  // namespace granflow::scenarios

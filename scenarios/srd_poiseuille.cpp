@@ -160,6 +160,7 @@ GRANFLOW_REGISTER_SCENARIO(srd_poiseuille, Scenario{
         .integer("poiseuille.warmup_steps", 1000, 0, 1000000000, "steps before the profiles are sampled");
   },
   .build = [](Run& run) { run.config().integer("system.dimension") == 2 ? build<2>(run) : build<3>(run); },
+  .adopt = adopt_stored_state,
 })
 
 }  // namespace granflow::scenarios

@@ -93,6 +93,7 @@ GRANFLOW_REGISTER_SCENARIO(srd_viscosity, Scenario{
         .integer("viscosity.block_steps", 200, 1, 1000000000, "steps per block of the standard errors");
   },
   .build = [](Run& run) { run.config().integer("system.dimension") == 2 ? build<2>(run) : build<3>(run); },
+  .adopt = adopt_stored_state,
 })
 
 }  // namespace granflow::scenarios

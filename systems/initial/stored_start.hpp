@@ -85,6 +85,25 @@ inline void adopt_stored_state(Config& config) {
                                    s.source));
     config.set("system.boundary", std::string(periodic ? "periodic" : "reflecting"));
   }
+  if (has("system.cells")) {  // SRD: the box in cells of size 1, a whole number of particles per cell
+    double cells = 1.0;
+    for (double edge : s.edges) {
+      if (edge != std::round(edge) || edge < 2)
+        throw InputError(fmt::format("initial.from: {} has a box of edges {}; an SRD box is a whole number (at "
+                                     "least 2) of cells of size 1 along each axis (system.cells)",
+                                     s.source, fmt::join(s.edges, " x ")));
+      cells *= edge;
+    }
+    config.set("system.cells", s.edges);
+    const double per_cell = static_cast<double>(s.count) / cells;
+    if (has("srd.particles_per_cell")) {
+      if (per_cell != std::round(per_cell))
+        throw InputError(fmt::format("initial.from: {} holds {} particles in {} cells: not a whole number per cell "
+                                     "(srd.particles_per_cell)",
+                                     s.source, s.count, cells));
+      config.set("srd.particles_per_cell", static_cast<std::int64_t>(per_cell));
+    }
+  }
   for (const char* key : {"system.radius", "particle.radius"})
     if (has(key)) config.set(key, uniform(s.radius, "radii", key, s));
   for (const char* key : {"system.mass", "particle.mass"})
@@ -114,21 +133,26 @@ void place_stored_state(World& world, const std::array<double, D>& edges, const 
     throw InputError(fmt::format("initial.from: {} has no velocities (H5MD velocity, GSD particles/velocity, "
                                  "extended XYZ velo, vel or momenta with masses)",
                                  s.source));
-  if (s.radius.empty() || s.mass.empty())
+  // Point particles (SRD) have neither radii nor masses of their own.
+  const bool spheres = world.has_component<Radius>();
+  if (spheres && (s.radius.empty() || s.mass.empty()))
     throw InputError(fmt::format("initial.from: {} has no particle {}", s.source, s.radius.empty() ? "radii" : "masses"));
   world.resize(s.count);
   auto& position = world.component<Position<D>>().values;
   auto& velocity = world.component<Velocity<D>>().values;
-  auto& radius = world.component<Radius>().values;
-  auto& mass = world.component<Mass>().values;
+  std::vector<double> radius(s.count, 0.0);
+  double* radius_column = spheres ? world.component<Radius>().values.data() : nullptr;
+  double* mass_column = spheres ? world.component<Mass>().values.data() : nullptr;
   double largest = 0.0;
   for (std::size_t i = 0; i < s.count; ++i) {
-    radius[i] = s.radius[i];
-    mass[i] = s.mass[i];
-    largest = std::max(largest, radius[i]);
-    if (!(radius[i] > 0) || !(mass[i] > 0) || !std::isfinite(radius[i]) || !std::isfinite(mass[i]))
-      throw InputError(fmt::format("initial.from: {}: particle {} has radius {} and mass {}; both must be positive",
-                                   s.source, i, radius[i], mass[i]));
+    if (spheres) {
+      radius[i] = radius_column[i] = s.radius[i];
+      mass_column[i] = s.mass[i];
+      largest = std::max(largest, radius[i]);
+      if (!(radius[i] > 0) || !(s.mass[i] > 0) || !std::isfinite(radius[i]) || !std::isfinite(s.mass[i]))
+        throw InputError(fmt::format("initial.from: {}: particle {} has radius {} and mass {}; both must be positive",
+                                     s.source, i, radius[i], s.mass[i]));
+    }
     for (int a = 0; a < D; ++a) {
       double x = s.position[i * D + static_cast<std::size_t>(a)];
       const double v = s.velocity[i * D + static_cast<std::size_t>(a)];
@@ -153,6 +177,7 @@ void place_stored_state(World& world, const std::array<double, D>& edges, const 
       velocity[i][a] = v;
     }
   }
+  if (!spheres) return;
   // No two particles may overlap (beyond round-off of the stored positions).
   PlacementRegion<D> everywhere;
   everywhere.upper = box.length;

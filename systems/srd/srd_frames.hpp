@@ -1,6 +1,6 @@
 #pragma once
-// Particle frames of an SRD fluid (output.positions): the particles are
-// given ids in the order of the initial state, so that every frame lists
+// Particle frames of an SRD fluid (output.positions): the particles have
+// ids in the order of the initial state (add_srd_fluid), so that every frame lists
 // them in that order however the binning sorts them in memory, and they
 // count their periodic images (the streaming adds each step's), so that
 // frames unwrap. The masses and ids are written at the end; the particles
@@ -32,11 +32,9 @@ void add_srd_frames(Run& run, const TriggerPtr& outputs) {
                                   "follow the particles by id",
                                   c.text("output.positions")));
   World& world = run.world();
-  // A resumed run has both from its checkpoint.
-  if (!world.has_component<ParticleId>()) {
-    auto& id = world.add_component<ParticleId>().values;
-    std::iota(id.begin(), id.end(), 0u);
-  }
+  // The ids come with the initial state (add_srd_fluid); a resumed run has
+  // them and the images from its checkpoint.
+  if (!world.has_component<ParticleId>()) throw std::logic_error("SRD frames without particle ids");
   if (!world.has_component<ImageCount<D>>())
     for (auto& image : world.add_component<ImageCount<D>>().values) image.setZero();
   add_particle_frames<D>(run, outputs);

@@ -6,14 +6,16 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <algorithm>
+#include <numeric>
 #include <string>
 
 #include "components/clock.hpp"
+#include "components/particle_id.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
 #include "engine/config.hpp"
@@ -27,6 +29,7 @@
 #include "systems/srd/cell_reduction.hpp"
 #include "systems/srd/grid_shift.hpp"
 #include "systems/srd/rotation.hpp"
+#include "systems/initial/stored_start.hpp"
 #include "systems/srd/srd_cells.hpp"
 #include "systems/srd/srd_step_limits.hpp"
 #include "systems/srd/streaming.hpp"
@@ -85,6 +88,7 @@ inline void declare_srd_keys(ConfigSchema& s, const SrdDefaults& d) {
       .unit("shear.rate", unit::rate)
       .unit("thermostat.temperature", unit::energy)
       .unit("srd.restitution", unit::none);
+  declare_stored_start_keys(s);
 }
 
 // Walls and a body force, for the scenarios that have them: `walls` as a
@@ -234,10 +238,28 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = 
   const auto n = static_cast<std::size_t>(particles);
   const double rate = c.real("shear.rate");
   const double temperature = c.real("srd.temperature");
+  std::array<bool, D> periodic{};
+  for (int a = 0; a < D; ++a)
+    periodic[a] = std::none_of(walls.begin(), walls.end(), [a](const Wall& w) { return w.axis == a; });
+  // Particle frames follow ids given in the order of the initial state
+  // (a stored one's order), before the binning sorts the particles.
+  const bool frames = c.schema().find("output.positions") && c.text("output.positions") != "none";
   run.initial_state([&](World& world) {
     world.resize(n);
     auto& x = world.add_component<Position<D>>();
     auto& v = world.add_component<Velocity<D>>();
+    if (frames) {
+      auto& id = world.add_component<ParticleId>().values;
+      std::iota(id.begin(), id.end(), 0u);
+    }
+    if (starts_from_stored_state(c)) {
+      std::array<double, D> edges{};
+      for (int a = 0; a < D; ++a) edges[a] = cells[a];
+      place_stored_state<D>(world, edges, periodic, stored_state_of(c), {0.0, false});
+      SrdCells<D> unshifted(cells, n);
+      SrdCellBinning<D>::sort(world, unshifted);
+      return;
+    }
     Vec<D> mean = Vec<D>::Zero();
     for (std::size_t i = 0; i < n; ++i) {
       Philox random(stream::srd_initial, run.seed(), 0, i);

@@ -7,8 +7,8 @@
 # precision), with the box, count, radius and mass taken over; and stored
 # states that cannot start a run are refused with exit 2 and what is wrong:
 # overlapping particles, a particle outside a walled box, no velocities, a
-# tilted box, a frame that is not there. The soft-sphere beds continue from
-# their final frames too. Skips (77) without the gsd package.
+# tilted box, a frame that is not there. The soft-sphere beds and an SRD
+# fluid continue from their final frames too. Skips (77) without the gsd package.
 set -u
 granflow="$1"
 source "$(dirname "$0")/../cli/common.sh"
@@ -95,6 +95,23 @@ sys.exit(0 if same else "FAIL: not the stored frame")
 PY
 done
 
+# SRD: a granular fluid continued from its final frame (ids, so the same
+# order), and a fluid whose count is not a whole number per cell refused.
+"$granflow" run gsrd_cooling --set 'system.cells=[8,8,8]' --set run.steps=100 --set output.positions=all -q \
+  -o fluid.h5md || exit 1
+"$granflow" run gsrd_cooling --set initial.from='"fluid.h5md"' --set run.steps=100 --set output.positions=all -q \
+  -o fluid_2.h5md || { echo "FAIL: gsrd_cooling from its own final frame"; failures=$((failures + 1)); }
+/usr/bin/python3 - fluid.h5md fluid_2.h5md <<'PY' || failures=$((failures + 1))
+import sys
+import h5py
+import numpy as np
+a, b = (h5py.File(p, "r") for p in sys.argv[1:3])
+p = "/particles/all/"
+same = all(np.array_equal(a[p + n + "/value"][-1], b[p + n + "/value"][0]) for n in ("position", "velocity"))
+print(f"{sys.argv[2]}: starts from {sys.argv[1]}'s final frame: {same}")
+sys.exit(0 if same else "FAIL: not the stored frame")
+PY
+
 # States that cannot start a run.
 "$granflow" run haff_cooling --set system.boundary='"reflecting"' --set run.t_stop=0.2 -q -o walled.h5md || exit 1
 /usr/bin/python3 - <<'PY'
@@ -127,5 +144,8 @@ expect_refusal "has no velocities" still.h5md
 expect_refusal "the box is tilted" tilted.gsd
 expect_refusal "initial.frame = 3: 'first.h5md' holds 1 frames" first.h5md --set initial.frame=3
 expect_refusal "initial.from = 'absent.gsd': the file does not exist" absent.gsd
+output=$("$granflow" run gsrd_cooling --set initial.from='"first.h5md"' -o x.h5md 2>&1); status=$?
+[[ $status -eq 2 && "$output" == *"an SRD box is a whole number"* ]] && echo "ok: SRD from a box of 1 x 1 x 1 refused" \
+  || { echo "FAIL: SRD from haff's box: exit $status: $output"; failures=$((failures + 1)); }
 echo "$failures failure(s)"
 [[ $failures -eq 0 ]]
