@@ -6,20 +6,14 @@ radii, species (as chemical symbols and typeid) and images against the result
 file. Skips (77) where ASE is not installed.
 
   ase_test.py DIR"""
-import sys
 
-try:
-    import ase
-    import ase.io
-except ImportError:
-    print("skipped: ASE is not installed (apt-get install python3-ase)")
-    sys.exit(77)
 import numpy as np
 
-from truth import PARTICLE_FILES, Checks, Frames
+from truth import PARTICLE_FILES, Frames, require, start
 
-directory = sys.argv[1]
-check = Checks("ASE " + ase.__version__)
+ase = require("ase", "python3-ase")
+require("ase.io", "python3-ase")
+directory, check = start("ASE " + ase.__version__)
 for name, dimension in PARTICLE_FILES:
     truth = Frames(f"{directory}/{name}.h5md")
     frames = ase.io.read(f"{directory}/{name}.xyz", index=":")

@@ -6,19 +6,14 @@ velocities, images, masses, diameters and types against the result file.
 Skips (77) where gsd is not installed.
 
   gsd_test.py DIR"""
-import sys
 
-try:
-    import gsd.hoomd
-except ImportError:
-    print("skipped: the gsd package is not installed (apt-get install python3-gsd)")
-    sys.exit(77)
 import numpy as np
 
-from truth import PARTICLE_FILES, Checks, Frames
+from truth import PARTICLE_FILES, Frames, require, start
 
-directory = sys.argv[1]
-check = Checks("gsd " + gsd.__version__)
+gsd = require("gsd", "python3-gsd")
+require("gsd.hoomd", "python3-gsd")
+directory, check = start("gsd " + gsd.__version__)
 for name, dimension in PARTICLE_FILES:
     truth = Frames(f"{directory}/{name}.h5md")
     with gsd.hoomd.open(f"{directory}/{name}.gsd", "rb") as trajectory:

@@ -15,19 +15,14 @@ Skips (77) where MDAnalysis is not installed.
 import sys
 import warnings
 
-try:
-    import MDAnalysis as mda
-    from MDAnalysis.analysis.rdf import InterRDF
-except ImportError:
-    print("skipped: MDAnalysis is not installed (apt-get install python3-mdanalysis)")
-    sys.exit(77)
 import numpy as np
 
-from truth import PARTICLE_FILES, Checks, Frames
+from truth import PARTICLE_FILES, Frames, require, start
 
 warnings.simplefilter("ignore")
-directory = sys.argv[1]
-check = Checks("MDAnalysis " + mda.__version__)
+mda = require("MDAnalysis", "python3-mdanalysis")
+InterRDF = require("MDAnalysis.analysis.rdf", "python3-mdanalysis").InterRDF
+directory, check = start("MDAnalysis " + mda.__version__)
 
 
 def open_h5md(path, n):

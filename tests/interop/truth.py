@@ -1,11 +1,21 @@
 """What a result file holds, read with h5py: the ground truth that the
 interop tests compare each tool's view against, and the list of files the
 fixture (outputs.sh) writes."""
+import importlib
 import os
 import sys
 
 import h5py
 import numpy as np
+
+def require(module, package):
+    """The module, or exit 77 (the test is skipped) saying which Debian package has it."""
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        print(f"skipped: {module} is not installed (apt-get install {package})")
+        sys.exit(77)
+
 
 # (name, dimension) of the files with particle frames; the SRD files hold fields.
 PARTICLE_FILES = [("haff", 3), ("crater", 2), ("shaken", 3), ("vibrated", 3), ("gsrd", 3), ("srd2d", 2)]
@@ -37,6 +47,11 @@ class Frames:
         out = np.zeros((values.shape[0], 3), dtype=values.dtype)
         out[:, : values.shape[1]] = values
         return out
+
+
+def start(tool):
+    """The output directory (the first argument) and the checks of one tool."""
+    return sys.argv[1], Checks(tool)
 
 
 class Checks:
