@@ -12,7 +12,6 @@ hard-sphere gas is 0 inside contact and at contact Carnahan-Starling's value.
 Skips (77) where MDAnalysis is not installed.
 
   mdanalysis_test.py DIR"""
-import sys
 import warnings
 
 import numpy as np
