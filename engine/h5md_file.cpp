@@ -90,6 +90,18 @@ void write_string_dataset(hid_t parent, const std::string& name, const std::vect
                 scalar ? std::vector<hsize_t>{} : std::vector<hsize_t>{values.size()});
 }
 
+// Short texts as fixed-length strings (each as long as the longest): no
+// variable-length data, whose global heap costs milliseconds a dataset.
+void write_fixed_strings(hid_t parent, const std::string& name, const std::vector<std::string>& values) {
+  std::size_t width = 1;
+  for (const auto& v : values) width = std::max(width, v.size() + 1);
+  std::vector<char> buffer(values.size() * width, '\0');
+  for (std::size_t k = 0; k < values.size(); ++k)
+    std::copy(values[k].begin(), values[k].end(), buffer.begin() + static_cast<std::ptrdiff_t>(k * width));
+  H5Handle type = string_type(width);
+  write_dataset(parent, name, type, buffer.data(), {values.size()});
+}
+
 H5Handle create_extendible(hid_t parent, const std::string& name, hid_t type, const std::vector<hsize_t>& inner) {
   std::vector<hsize_t> dims{0}, max_dims{H5S_UNLIMITED}, chunk{frames_per_chunk};
   hsize_t inner_count = 1;
@@ -527,7 +539,7 @@ void H5mdFile::finish() {
   const hid_t provenance = group("/provenance");
   const StateMap segments = provenance_state();
   const hid_t listed = group("/provenance/segments");
-  for (const auto& name : segment_texts) write_string_dataset(listed, name, decode_texts(segments.at(name)), false);
+  for (const auto& name : segment_texts) write_fixed_strings(listed, name, decode_texts(segments.at(name)));
   for (const auto* name : {"threads", "wall_seconds"})
     write_dataset(listed, name, H5T_NATIVE_DOUBLE, segments.at(name).data(), {segments.at(name).size()});
   write_string_attribute(provenance, "finished_utc", utc_timestamp());

@@ -49,9 +49,10 @@ GRANFLOW_HD inline double wrapped(double x, double length) {
 
 // x += v dt, then back into the box; crossing a shear plane k times moves the
 // particle by -k offset along x and changes v_x by -k velocity (Lees-Edwards).
-// Where `image` is given, each axis' count of boxes crossed (+1 leaving
-// through the upper face) grows by this step's.
-template <int D>
+// CountImages: each axis' count of boxes crossed, image[a] (+1 leaving
+// through the upper face), grows by this step's; a parameter of the template
+// so that the usual step carries no test for it.
+template <int D, bool CountImages = false>
 GRANFLOW_HD inline void stream_particle(double* x, double* v, double dt, const double* length, Shear shear,
                                         std::int32_t* image = nullptr) {
   for (int a = 0; a < D; ++a) x[a] += v[a] * dt;
@@ -61,11 +62,11 @@ GRANFLOW_HD inline void stream_particle(double* x, double* v, double dt, const d
       x[1] -= crossings * length[1];
       x[0] -= crossings * shear.offset;
       v[0] -= crossings * shear.velocity;
-      if (image) image[1] += static_cast<std::int32_t>(crossings);
+      if constexpr (CountImages) image[1] += static_cast<std::int32_t>(crossings);
     }
   }
   for (int a = 0; a < D; ++a) {
-    if (image) image[a] += static_cast<std::int32_t>(periods_out(x[a], length[a]));
+    if constexpr (CountImages) image[a] += static_cast<std::int32_t>(periods_out(x[a], length[a]));
     x[a] = wrapped(x[a], length[a]);
   }
 }

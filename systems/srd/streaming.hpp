@@ -70,8 +70,12 @@ class SrdStreaming : public System {
     const double dt = dt_;
     if (cells.walls.empty() && !force_.any()) {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 4096), [&](const auto& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i)
-          stream_particle<D>(x + D * i, v + D * i, dt, length, shear, images ? images + D * i : nullptr);
+        if (images)
+          for (std::size_t i = range.begin(); i != range.end(); ++i)
+            stream_particle<D, true>(x + D * i, v + D * i, dt, length, shear, images + D * i);
+        else
+          for (std::size_t i = range.begin(); i != range.end(); ++i)
+            stream_particle<D>(x + D * i, v + D * i, dt, length, shear);
       });
       return;
     }
