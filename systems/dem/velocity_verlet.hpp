@@ -85,7 +85,9 @@ class DemKickDrift : public System {
     if (nl && !(nl->built() && nl->reference.size() == world.size())) nl = nullptr;
     std::atomic<double> moved{0.0};
     const ThreadDomains domains = sphere_domains<D>(world);
-    for_each_sphere_run(domains, [&](std::size_t, std::size_t from, std::size_t to) {
+    // Images are counted where an axis is periodic; a parameter of the
+    // template, so that a box without one carries no test for them.
+    const auto drift = [&]<bool CountImages>(std::size_t from, std::size_t to) {
       for (std::size_t i = from; i < to; ++i) {
         const double kick = 0.5 * dt / m[i];
         for (int a = 0; a < D; ++a) {
@@ -97,9 +99,16 @@ class DemKickDrift : public System {
           const double above = p >= length[a] ? period[a] : 0.0;
           p -= above;
           xs[k] = p;
-          if (images) images[k] += static_cast<std::int32_t>(above > 0.0) - static_cast<std::int32_t>(below > 0.0);
+          if constexpr (CountImages)
+            images[k] += static_cast<std::int32_t>(above > 0.0) - static_cast<std::int32_t>(below > 0.0);
         }
       }
+    };
+    for_each_sphere_run(domains, [&](std::size_t, std::size_t from, std::size_t to) {
+      if (images)
+        drift.template operator()<true>(from, to);
+      else
+        drift.template operator()<false>(from, to);
       if (nl) raise_to(moved, largest_displacement_squared(x.values.data(), *nl, box, from, to));
     });
     if (nl) {
