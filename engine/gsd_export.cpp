@@ -10,43 +10,13 @@
 #include <map>
 #include <vector>
 
+#include "engine/gsd_layout.hpp"
 #include "engine/input_error.hpp"
 #include "engine/particle_frames.hpp"
 
 namespace granflow {
 
 namespace {
-
-// The GSD 2.0 file layer: a 256-byte header, the data chunks, the list of
-// chunk names and an index of 32-byte entries sorted by frame, then name.
-enum class GsdType : std::uint8_t { uint8 = 1, uint32 = 3, uint64 = 4, int8 = 5, int32 = 7, float32 = 9, float64 = 10 };
-
-std::uint32_t gsd_version(std::uint32_t major, std::uint32_t minor) { return major << 16 | minor; }
-
-#pragma pack(push, 1)
-struct GsdHeader {
-  std::uint64_t magic = 0x65DF65DF65DF65DFull;
-  std::uint64_t index_location = 0;
-  std::uint64_t index_allocated_entries = 0;
-  std::uint64_t namelist_location = 0;
-  std::uint64_t namelist_allocated_entries = 0;  // in 64-byte segments
-  std::uint32_t schema_version = 0;
-  std::uint32_t gsd_version = 0;
-  char application[64] = {};
-  char schema[64] = {};
-  char reserved[80] = {};
-};
-struct GsdIndexEntry {
-  std::uint64_t frame;
-  std::uint64_t rows;
-  std::int64_t location;
-  std::uint32_t columns;
-  std::uint16_t name;
-  std::uint8_t type;
-  std::uint8_t flags;
-};
-#pragma pack(pop)
-static_assert(sizeof(GsdHeader) == 256 && sizeof(GsdIndexEntry) == 32);
 
 class GsdWriter {
  public:

@@ -10,6 +10,7 @@
 #include <map>
 #include <sstream>
 
+#include "engine/gsd_layout.hpp"
 #include "engine/h5_handle.hpp"
 #include "engine/h5md_reader.hpp"
 #include "engine/input_error.hpp"
@@ -56,28 +57,23 @@ StoredState read_h5md(const std::string& path, std::int64_t frame) {
 class GsdFile {
  public:
   explicit GsdFile(const std::string& path) : path_(path), in_(path, std::ios::binary) {
-    struct {
-      std::uint64_t magic, index_location, index_entries, namelist_location, namelist_entries;
-      std::uint32_t schema_version, gsd_version;
-      char application[64], schema[64], reserved[80];
-    } header{};
-    static_assert(sizeof header == 256);
+    GsdHeader header;
     read_at(0, &header, sizeof header);
-    if (header.gsd_version >= (3u << 16) || header.gsd_version < (1u << 16))
+    if (header.gsd_version >= gsd_version(3, 0) || header.gsd_version < gsd_version(1, 0))
       fail(fmt::format("GSD file version {}.{} is not one this reader knows (1.x, 2.x)", header.gsd_version >> 16,
                        header.gsd_version & 0xffff));
-    const bool version1 = header.gsd_version < (2u << 16);
-    std::vector<char> names(header.namelist_entries * 64);
-    if (names.size() > (1u << 30)) fail("its name list is implausibly large");
+    const bool version1 = header.gsd_version < gsd_version(2, 0);
+    if (header.namelist_allocated_entries > (1u << 24)) fail("its name list is implausibly large");
+    std::vector<char> names(header.namelist_allocated_entries * 64);
     read_at(header.namelist_location, names.data(), names.size());
     for (std::size_t at = 0; at < names.size() && names[at] != 0;) {
       const std::string name(&names[at], strnlen(&names[at], names.size() - at));
       ids_[name] = static_cast<std::uint16_t>(name_count_++);
       at += version1 ? 64 : name.size() + 1;
     }
-    if (header.index_entries > (1ull << 32)) fail("its index is implausibly large");
-    index_.resize(header.index_entries);
-    read_at(header.index_location, index_.data(), index_.size() * sizeof(Entry));
+    if (header.index_allocated_entries > (1ull << 32)) fail("its index is implausibly large");
+    index_.resize(header.index_allocated_entries);
+    read_at(header.index_location, index_.data(), index_.size() * sizeof(GsdIndexEntry));
     while (!index_.empty() && index_.back().location == 0) index_.pop_back();
     frames_ = index_.empty() ? 0 : index_.back().frame + 1;
   }
@@ -89,21 +85,19 @@ class GsdFile {
   std::vector<double> chunk(const std::string& name, std::size_t f, std::size_t* columns = nullptr) {
     const auto id = ids_.find(name);
     if (id == ids_.end()) return {};
-    const Entry* found = nullptr;
+    const GsdIndexEntry* found = nullptr;
     for (const auto& e : index_)
-      if (e.id == id->second && (e.frame == f || (e.frame == 0 && !found))) found = &e;
+      if (e.name == id->second && (e.frame == f || (e.frame == 0 && !found))) found = &e;
     if (!found) return {};
     if (columns) *columns = found->columns;
     const std::size_t count = found->rows * found->columns;
     if (count > (1ull << 34)) fail(fmt::format("chunk {} is implausibly large", name));
-    static const std::map<std::uint8_t, std::size_t> sizes{{1, 1}, {2, 2}, {3, 4}, {4, 8}, {5, 1}, {6, 2},
-                                                           {7, 4}, {8, 8}, {9, 4}, {10, 8}};
-    const auto size = sizes.find(found->type);
-    if (size == sizes.end()) fail(fmt::format("chunk {} has a type ({}) this reader does not know", name, found->type));
-    std::vector<char> bytes(count * size->second);
+    const std::size_t size = gsd_type_size(found->type);
+    if (size == 0) fail(fmt::format("chunk {} has a type ({}) this reader does not know", name, found->type));
+    std::vector<char> bytes(count * size);
     read_at(static_cast<std::uint64_t>(found->location), bytes.data(), bytes.size());
     std::vector<double> out(count);
-    for (std::size_t k = 0; k < count; ++k) out[k] = element(bytes.data() + k * size->second, found->type);
+    for (std::size_t k = 0; k < count; ++k) out[k] = element(bytes.data() + k * size, found->type);
     return out;
   }
 
@@ -112,30 +106,21 @@ class GsdFile {
   }
 
  private:
-  struct Entry {
-    std::uint64_t frame, rows;
-    std::int64_t location;
-    std::uint32_t columns;
-    std::uint16_t id;
-    std::uint8_t type, flags;
-  };
-  static_assert(sizeof(Entry) == 32);
-
   static double element(const char* p, std::uint8_t type) {
     const auto get = [p](auto value) {
       std::memcpy(&value, p, sizeof value);
       return static_cast<double>(value);
     };
-    switch (type) {
-      case 1: return get(std::uint8_t{});
-      case 2: return get(std::uint16_t{});
-      case 3: return get(std::uint32_t{});
-      case 4: return get(std::uint64_t{});
-      case 5: return get(std::int8_t{});
-      case 6: return get(std::int16_t{});
-      case 7: return get(std::int32_t{});
-      case 8: return get(std::int64_t{});
-      case 9: return get(float{});
+    switch (static_cast<GsdType>(type)) {
+      case GsdType::uint8: return get(std::uint8_t{});
+      case GsdType::uint16: return get(std::uint16_t{});
+      case GsdType::uint32: return get(std::uint32_t{});
+      case GsdType::uint64: return get(std::uint64_t{});
+      case GsdType::int8: return get(std::int8_t{});
+      case GsdType::int16: return get(std::int16_t{});
+      case GsdType::int32: return get(std::int32_t{});
+      case GsdType::int64: return get(std::int64_t{});
+      case GsdType::float32: return get(float{});
       default: return get(double{});
     }
   }
@@ -151,7 +136,7 @@ class GsdFile {
   std::ifstream in_;
   std::map<std::string, std::uint16_t> ids_;
   std::size_t name_count_ = 0;
-  std::vector<Entry> index_;
+  std::vector<GsdIndexEntry> index_;
   std::size_t frames_ = 0;
 };
 
@@ -350,7 +335,7 @@ StoredState read_stored_state(const std::string& path, std::int64_t frame) {
   std::uint64_t magic = 0;
   in.read(reinterpret_cast<char*>(&magic), sizeof magic);
   in.close();
-  if (magic == 0x65DF65DF65DF65DFull) return read_gsd(path, frame);
+  if (magic == gsd_magic) return read_gsd(path, frame);
   h5_quiet();
   if (H5Fis_hdf5(path.c_str()) > 0) return read_h5md(path, frame);
   return read_xyz(path, frame);
