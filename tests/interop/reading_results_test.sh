@@ -18,9 +18,9 @@ fi
 cd "$work"
 cp -r "$source_dir/scenarios" .
 # Blocks between ```sh / ```python / ```pvpython and ```.
-/usr/bin/python3 - "$source_dir/docs/reading-results.md" "$granflow" <<'PY'
+/usr/bin/python3 - "$source_dir/docs/reading-results.md" "$granflow" "$(dirname "$(realpath "$0")")/with_xvfb.sh" <<'PY'
 import re, subprocess, sys, warnings
-text, granflow = open(sys.argv[1]).read(), sys.argv[2]
+text, granflow, with_xvfb = open(sys.argv[1]).read(), sys.argv[2], sys.argv[3]
 blocks = re.findall(r"```(sh|python|pvpython)\n(.*?)```", text, re.S)
 assert len(blocks) >= 5, f"only {len(blocks)} code blocks"
 for kind, code in blocks:
@@ -33,7 +33,7 @@ for kind, code in blocks:
             print("ok:", line.strip())
     elif kind == "pvpython":
         open("snippet.py", "w").write(code)
-        subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1024x768x24", "pvpython", "snippet.py"], check=True)
+        subprocess.run([with_xvfb, "pvpython", "snippet.py"], check=True)
         print("ok: pvpython snippet starting", code.splitlines()[0])
     else:
         warnings.simplefilter("ignore")

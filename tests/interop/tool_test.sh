@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs one interop test with the program that has its tool: pvpython under
-# Xvfb for ParaView, Debian's /usr/bin/python3 for MDAnalysis, ASE and gsd.
+# Xvfb (with_xvfb.sh) for ParaView, Debian's /usr/bin/python3 for MDAnalysis, ASE and gsd.
 # Exits 77 (skipped, saying why) where the program is missing.
 #   tool_test.sh paraview|mdanalysis|ase|gsd OUTPUT_DIR
 set -u
@@ -11,6 +11,6 @@ if [[ "$tool" == paraview ]]; then
   for program in pvpython xvfb-run; do
     command -v "$program" > /dev/null || { echo "skipped: $program is not installed (apt-get install paraview xvfb)"; exit 77; }
   done
-  exec xvfb-run -a -s "-screen 0 1024x768x24" pvpython "$here/paraview_test.py" "$directory"
+  exec "$here/with_xvfb.sh" pvpython "$here/paraview_test.py" "$directory"
 fi
 exec /usr/bin/python3 -W ignore "$here/${tool}_test.py" "$directory"
