@@ -18,6 +18,7 @@
 #include "engine/h5_handle.hpp"
 #include "engine/h5md_reader.hpp"
 #include "engine/input_error.hpp"
+#include "engine/mdanalysis_export.hpp"
 #include "engine/mpi_launch.hpp"
 #include "engine/gsd_export.hpp"
 #include "engine/provenance.hpp"
@@ -183,11 +184,13 @@ void export_command(const std::string& path, const std::string& format, std::str
   require_result_file(path);
   if (const SealState seal = check_seal(path); seal == SealState::broken && !edited)
     throw InputError(fmt::format("'{}' {} (its seal does not match its contents)", path, describe(seal)));
-  if (output.empty()) output = std::filesystem::path(path).replace_extension(format).string();
+  if (output.empty())
+    output = std::filesystem::path(path).replace_extension(format == "mdanalysis" ? "mda.h5md" : format).string();
   try {
     const std::size_t frames = format == "xyz"    ? export_extended_xyz(path, output)
                                : format == "gsd" ? export_gsd(path, output)
-                                                 : export_xdmf(path, output);
+                               : format == "xdmf" ? export_xdmf(path, output)
+                                                  : export_mdanalysis(path, output);
     spdlog::info("{} frames of '{}' written to '{}'", frames, path, output);
   } catch (const H5Error& error) {
     throw InputError(fmt::format("cannot export '{}': {}", path, error.what()));
@@ -255,17 +258,18 @@ int main(int argc, char** argv) {
   bool edited = false;
   info->add_flag("--edited", edited, "the file was changed after granflow wrote it, on purpose: read it anyway");
   auto* export_frames = app.add_subcommand("export", "write a result file's particle frames for ASE and OVITO "
-                                                   "(extended XYZ), HOOMD-blue, gsd and OVITO (GSD) or ParaView "
-                                                   "(XDMF, with the fields)");
+                                                   "(extended XYZ), HOOMD-blue, gsd and OVITO (GSD), ParaView "
+                                                   "(XDMF, with the fields) or MDAnalysis (H5MD)");
   std::string export_path, export_format, export_output;
   export_frames->add_option("file", export_path, "H5MD result file with particle frames")->required();
   export_frames->add_option("--format", export_format,
-                            "xyz (extended XYZ), gsd (HOOMD schema) or xdmf (XML and OUTPUT.h5 of virtual datasets "
-                            "over the result file)")
+                            "xyz (extended XYZ), gsd (HOOMD schema), xdmf (XML and OUTPUT.h5 of virtual datasets "
+                            "over the result file) or mdanalysis (H5MD linking to the result file, with the series "
+                            "at the frames' times)")
       ->required()
-      ->check(CLI::IsMember({"xyz", "gsd", "xdmf"}));
+      ->check(CLI::IsMember({"xyz", "gsd", "xdmf", "mdanalysis"}));
   export_frames->add_option("-o,--output", export_output,
-                            "output file (default: the result's name with .xyz, .gsd or .xdmf)");
+                            "output file (default: the result's name with .xyz, .gsd, .xdmf or .mda.h5md)");
   export_frames->add_flag("--edited", edited, "the file was changed after granflow wrote it, on purpose: read it anyway");
 
   std::string keys_name;

@@ -15,6 +15,7 @@
 
 #include "engine/config.hpp"
 #include "engine/file_seal.hpp"
+#include "engine/h5_write.hpp"
 #include "engine/input_error.hpp"
 #include "engine/provenance.hpp"
 #include "engine/units.hpp"
@@ -28,23 +29,6 @@ namespace {
 // frame of 1000 particles' positions two, larger frames one.
 constexpr hsize_t frames_per_chunk = 64;
 constexpr hsize_t values_per_chunk = 8192;
-
-H5Handle string_type(std::size_t fixed_length = 0) {
-  H5Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "copy string type");
-  h5_check(H5Tset_size(type, fixed_length ? fixed_length : H5T_VARIABLE), "set string size");
-  h5_check(H5Tset_cset(type, H5T_CSET_UTF8), "set string charset");
-  return type;
-}
-
-void write_string_attribute(hid_t object, const std::string& name, const std::string& value) {
-  H5Handle type = string_type();
-  H5Handle space(H5Screate(H5S_SCALAR), H5Sclose, "create scalar space");
-  if (H5Aexists(object, name.c_str()) > 0) h5_check(H5Adelete(object, name.c_str()), "replace attribute " + name);
-  H5Handle attribute(H5Acreate2(object, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
-                     "create attribute " + name);
-  const char* text = value.c_str();
-  h5_check(H5Awrite(attribute, type, &text), "write attribute " + name);
-}
 
 template <class T>
 void write_numeric_attribute(hid_t object, const std::string& name, hid_t mem_type, const std::vector<T>& values) {
@@ -69,16 +53,6 @@ void write_string_array_attribute(hid_t object, const std::string& name, const s
   H5Handle attribute(H5Acreate2(object, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
                      "create attribute " + name);
   h5_check(H5Awrite(attribute, type, packed.data()), "write attribute " + name);
-}
-
-void write_dataset(hid_t parent, const std::string& name, hid_t mem_type, const void* data,
-                   const std::vector<hsize_t>& shape) {
-  H5Handle space(shape.empty() ? H5Screate(H5S_SCALAR)
-                               : H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr),
-                 H5Sclose, "create space for " + name);
-  H5Handle dataset(H5Dcreate2(parent, name.c_str(), mem_type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                   H5Dclose, "create dataset " + name);
-  h5_check(H5Dwrite(dataset, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write dataset " + name);
 }
 
 void write_string_dataset(hid_t parent, const std::string& name, const std::vector<std::string>& values,

@@ -102,10 +102,21 @@ void declare_keys(ConfigSchema& s) {
   edmd::GasDefaults gas;
   gas.restitution = 1.0;
   edmd::declare_gas_keys(s, gas);
+  declare_stored_start_keys(s);
   declare_ensemble_keys(s, 4);
   s.real("output.first", 0.001, 0.0, inf, "first output time after t = 0", true)
       .integer("output.points_per_decade", 10, 1, 1000, "log-spaced outputs per decade");
   declare_msd_keys(s, MsdDefaults{0, 0.05});
+}
+
+// Event-driven dynamics is deterministic: runs started from one stored
+// state would repeat each other, so a stored start is one run.
+void adopt_stored_gas(Config& config) {
+  if (starts_from_stored_state(config) && config.integer("run.runs") != 1)
+    throw ConfigError(fmt::format("initial.from with run.runs = {}: every run would start from the same stored state "
+                                  "and, the dynamics being deterministic, repeat it; set run.runs = 1",
+                                  config.integer("run.runs")));
+  adopt_stored_state(config);
 }
 
 const Scenario brownian_edmd{
@@ -114,6 +125,7 @@ const Scenario brownian_edmd{
     .default_output = "brownian_edmd.h5md",
     .keys = declare_keys,
     .build = build,
+    .adopt = adopt_stored_gas,
     .members = ensemble_members,
     .reduce = [](const EnsembleResults& results, H5mdFile& file) { write(reduce_edmd_msd(results), file); },
 };

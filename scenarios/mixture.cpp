@@ -7,12 +7,18 @@
 
 #include "scenarios/mixture.hpp"
 
+#include <fmt/format.h>
+
+#include <array>
 #include <cmath>
+#include <vector>
 
 #include "components/mass.hpp"
 #include "components/species.hpp"
+#include "engine/input_error.hpp"
 #include "engine/scenario.hpp"
 #include "scenarios/speed_study.hpp"
+#include "systems/initial/stored_start.hpp"
 
 namespace granflow::scenarios {
 
@@ -29,6 +35,39 @@ std::function<void(World&)> mixture_species(const Config& config) {
     }
   };
 }
+
+namespace {
+
+// A stored mixture: species 0 (light) and 1 (heavy), each of one mass, give
+// system.mass, mixture.mass_ratio and mixture.heavy_fraction.
+void adopt_stored_mixture(Config& config) {
+  if (!starts_from_stored_state(config)) return;
+  const StoredState s = stored_state_of(config);
+  adopt_stored_layout(config, s);
+  if (s.species.size() != s.count || s.mass.size() != s.count)
+    throw InputError(fmt::format("initial.from: {} has no particle {}; a mixture takes each particle's species (0 "
+                                 "light, 1 heavy) and mass as stored",
+                                 s.source, s.species.size() != s.count ? "species" : "masses"));
+  std::array<std::vector<double>, 2> masses;
+  for (std::size_t i = 0; i < s.count; ++i) {
+    if (s.species[i] != 0 && s.species[i] != 1)
+      throw InputError(fmt::format("initial.from: {}: particle {} is of species {}; a mixture has species 0 (light) "
+                                   "and 1 (heavy)",
+                                   s.source, i, s.species[i]));
+    masses[static_cast<std::size_t>(s.species[i])].push_back(s.mass[i]);
+  }
+  if (masses[0].empty() || masses[1].empty())
+    throw InputError(fmt::format("initial.from: {} holds particles of species {} only; a mixture has both 0 (light) "
+                                 "and 1 (heavy)",
+                                 s.source, masses[0].empty() ? 1 : 0));
+  const double light = uniform(masses[0], "masses of species 0", "system.mass", s);
+  const double heavy = uniform(masses[1], "masses of species 1", "mixture.mass_ratio", s);
+  config.set("system.mass", light);
+  config.set("mixture.mass_ratio", heavy / light);
+  config.set("mixture.heavy_fraction", static_cast<double>(masses[1].size()) / static_cast<double>(s.count));
+}
+
+}  // namespace
 
 GRANFLOW_REGISTER_SCENARIO(mixture, Scenario{
   .name = "mixture",
@@ -47,6 +86,7 @@ GRANFLOW_REGISTER_SCENARIO(mixture, Scenario{
     else
       build_speed_study<3>(run, {"light", "heavy"}, species);
   },
+  .adopt = adopt_stored_mixture,
 })
 
 }  // namespace granflow::scenarios

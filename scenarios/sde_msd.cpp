@@ -35,7 +35,9 @@
 #include "engine/stream_ids.hpp"
 #include "systems/initial/initial_velocities.hpp"
 #include "systems/observables/msd.hpp"
+#include "systems/observables/particle_frames.hpp"
 #include "systems/observables/time_averaged_msd.hpp"
+#include "systems/sde/sde_frames.hpp"
 #include "systems/sde/sde_parameters.hpp"
 #include "systems/sde/sde_step.hpp"
 #include "systems/sde/sde_theory.hpp"
@@ -59,6 +61,7 @@ void declare_keys(ConfigSchema& s, bool scaled) {
   sde::declare_sde_step_keys(s);
   declare_ensemble_keys(s, 4);
   declare_msd_keys(s, MsdDefaults{1000, 0.0});
+  declare_frame_keys(s, "none");
 }
 
 struct Stepping {
@@ -110,7 +113,8 @@ void build(Run& run) {
   // Position, velocity and MSD origin per particle, for every run going at once.
   const auto at_once = std::min<std::size_t>(ensemble_members(c), tbb::this_task_arena::max_concurrency());
   require_memory(fmt::format("system.count = {} with {} runs at a time", count, at_once),
-                 3.0 * 8.0 * D * static_cast<double>(count) * static_cast<double>(at_once));
+                 3.0 * 8.0 * D * static_cast<double>(count) * static_cast<double>(at_once) +
+                     sde::sde_frame_bytes(c, s.output_steps.size()));
   const bool stationary = c.text("initial.velocity") == "stationary";
   run.initial_state([&](World& world) {
     world.resize(count);
@@ -126,6 +130,7 @@ void build(Run& run) {
   });
   run.step<sde::SdeAdvance<D>>(model, s.scheme, s.dt, run.seed());
   run.keep("msd", run.observe<MsdObserver<D>>(std::make_shared<AtSteps>(s.output_steps), run.world()));
+  sde::add_sde_frames<D>(run, s.output_steps);
   add_time_averaged_msd<D>(run, std::make_shared<EverySteps>(1), static_cast<std::uint64_t>(s.total_steps));
   run.stop_at_step(s.total_steps);
   const auto particles = static_cast<double>(count);
@@ -184,7 +189,11 @@ Scenario sde_scenario(const std::string& name, bool scaled, const std::string& s
       .keys = [scaled](ConfigSchema& s) { declare_keys(s, scaled); },
       .build = build_any,
       .members = ensemble_members,
-      .reduce = [](const EnsembleResults& r, H5mdFile& file) { write(r.config, reduce_sde_msd(r), file); },
+      .reduce =
+          [](const EnsembleResults& r, H5mdFile& file) {
+            write(r.config, reduce_sde_msd(r), file);
+            sde::write_sde_frames(r.config, r.members.front().history, file);
+          },
   };
 }
 

@@ -19,6 +19,7 @@ GRANFLOW_REGISTER_SCENARIO(speed_distribution, Scenario{
     else
       build_speed_study<3>(run, {"all"}, {});
   },
+  .adopt = adopt_stored_state,
 })
 
 }  // namespace granflow::scenarios

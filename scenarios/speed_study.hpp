@@ -47,6 +47,7 @@ inline void declare_speed_study_keys(ConfigSchema& s, const SamplingDefaults& d)
   gas.restitution = 1.0;
   gas.remove_mean_velocity = false;  // walls do not conserve momentum; keep the one-speed start exact
   edmd::declare_gas_keys(s, gas);
+  declare_stored_start_keys(s);
   s.real("sampling.equilibration_collisions", d.equilibration_collisions, 0.0, 1e6,
          "collisions per particle before the first speed snapshot")
       .integer("sampling.snapshots", d.snapshots, 1, 100000, "speed snapshots gathered into the histograms")

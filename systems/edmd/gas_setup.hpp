@@ -179,7 +179,8 @@ void melt_lattice(World& world, EventDrivenGas<D>& gas, const Vec<D>& bragg_vect
 // Fills an empty world (of system.count entities) with the configured gas at
 // t = 0, or with the stored state initial.from names, as it was stored.
 // `customize` may change masses, radii or add components (a mixture's
-// species) before particles are placed and given velocities.
+// species) before particles are placed and given velocities; a stored state
+// then replaces the masses, radii and species it set.
 // `preparation` hears how far placement and equilibration are and stops
 // them when the run is interrupted.
 template <int D>
@@ -189,7 +190,6 @@ void build_gas(World& world, const Config& config, std::uint64_t seed,
   const bool on_lattice = config.text("initial.placement") == "lattice";
   const bool compressed = config.text("initial.placement") == "compressed";
   const bool stored = starts_from_stored_state(config);
-  if (stored && customize) throw std::logic_error("a stored start for a gas of several kinds of particle");
   // Impossible sizes fail here, before anything is allocated.
   if (!customize && !on_lattice && !compressed && !stored) {
     const Box<D> box = box_from<D>(config);

@@ -18,6 +18,7 @@
 #include "components/mass.hpp"
 #include "components/position.hpp"
 #include "components/radius.hpp"
+#include "components/species.hpp"
 #include "components/velocity.hpp"
 #include "engine/config.hpp"
 #include "engine/input_error.hpp"
@@ -59,11 +60,9 @@ inline double uniform(const std::vector<double>& values, const std::string& what
 }
 
 // Sets system.dimension, count, box (system.box_length or system.box),
-// boundary, and the radius and mass (system.* or particle.*), each where the
-// scenario has the key, from the stored state.
-inline void adopt_stored_state(Config& config) {
-  if (!starts_from_stored_state(config)) return;
-  const StoredState s = stored_state_of(config);
+// boundary and the radius (system.* or particle.*), each where the scenario
+// has the key, from the stored state `s`.
+inline void adopt_stored_layout(Config& config, const StoredState& s) {
   const auto has = [&](const char* key) { return config.schema().find(key) != nullptr; };
   if (s.count == 0) throw InputError(fmt::format("initial.from: {} holds no particles", s.source));
   if (has("system.dimension")) config.set("system.dimension", static_cast<std::int64_t>(s.dimension));
@@ -106,8 +105,15 @@ inline void adopt_stored_state(Config& config) {
   }
   for (const char* key : {"system.radius", "particle.radius"})
     if (has(key)) config.set(key, uniform(s.radius, "radii", key, s));
+}
+
+// The layout and the one mass of every particle, where initial.from is set.
+inline void adopt_stored_state(Config& config) {
+  if (!starts_from_stored_state(config)) return;
+  const StoredState s = stored_state_of(config);
+  adopt_stored_layout(config, s);
   for (const char* key : {"system.mass", "particle.mass"})
-    if (has(key)) config.set(key, uniform(s.mass, "masses", key, s));
+    if (config.schema().find(key)) config.set(key, uniform(s.mass, "masses", key, s));
 }
 
 // How far a stored state may depart from a hard-sphere one: soft spheres
@@ -176,6 +182,15 @@ void place_stored_state(World& world, const std::array<double, D>& edges, const 
       position[i][a] = x;
       velocity[i][a] = v;
     }
+  }
+  // A run of several kinds of particle takes each particle's kind as stored.
+  if (world.has_component<Species>()) {
+    if (s.species.size() != s.count)
+      throw InputError(fmt::format("initial.from: {} has no particle species (H5MD species, GSD typeid, extended "
+                                   "XYZ typeid or species); this run has several kinds of particle",
+                                   s.source));
+    auto& species = world.component<Species>();
+    for (std::size_t i = 0; i < s.count; ++i) species[i] = static_cast<typename Species::value_type>(s.species[i]);
   }
   if (!spheres) return;
   // No two particles may overlap (beyond round-off of the stored positions).

@@ -157,7 +157,7 @@ fi
 scenarios=$(dirname "$scenario")
 for threads in 1 2; do
   "$granflow" run "$scenarios/langevin_msd.toml" --set system.count=20000 --set run.t_stop=1 --set run.runs=2 \
-    --set msd.time_average_particles=100 --threads $threads -q -o "$work/sde$threads.h5" \
+    --set msd.time_average_particles=100 --set output.positions=all --threads $threads -q -o "$work/sde$threads.h5" \
     || { echo "FAIL: langevin_msd with $threads threads"; failures=$((failures + 1)); }
   "$granflow" run "$scenarios/brownian_edmd.toml" --set system.count=300 --set system.radius=0.03 \
     --set run.t_stop=2 --set collision.restitution=0.8 --threads $threads -q -o "$work/edmd$threads.h5" \
@@ -172,11 +172,15 @@ for run, names in (("sde", ("msd", "msd_stderr", "time_averaged_msd", "ergodicit
     for name in names:
         if not np.array_equal(a[f"/observables/{name}/value"][()], b[f"/observables/{name}/value"][()]):
             sys.exit(f"FAIL: {run} {name} differs between 1 and 2 threads")
+a, b = (h5py.File(f"{work}/sde{t}.h5", "r") for t in (1, 2))
+for name in ("position", "velocity"):
+    if not np.array_equal(a[f"/particles/all/{name}/value"][()], b[f"/particles/all/{name}/value"][()]):
+        sys.exit(f"FAIL: langevin_msd frames ({name}) differ between 1 and 2 threads")
 print("ok: langevin_msd and brownian_edmd identical on 1 and 2 threads")
 PY
 
 # An SDE measurement killed after some of its runs continues from them.
-sde_args=(--set run.runs=6 --set run.t_stop=10 --set system.count=2000 -q)
+sde_args=(--set run.runs=6 --set run.t_stop=10 --set system.count=2000 --set output.positions=first_last -q)
 "$granflow" run "$scenarios/langevin_msd.toml" "${sde_args[@]}" -o "$work/sde_ref.h5"
 "$granflow" run "$scenarios/langevin_msd.toml" "${sde_args[@]}" -o "$work/sde_cut.h5" &
 pid=$!
@@ -193,6 +197,9 @@ a, b = (h5py.File(f"{sys.argv[1]}/sde_{n}.h5", "r") for n in ("ref", "cut"))
 for name in ("msd", "msd_stderr", "time_averaged_msd", "ergodicity_breaking"):
     if not np.array_equal(a[f"/observables/{name}/value"][()], b[f"/observables/{name}/value"][()]):
         sys.exit(f"FAIL: resumed langevin_msd differs in {name}")
+for name in ("position/value", "position/time", "velocity/value", "box/edges/value"):
+    if not np.array_equal(a[f"/particles/all/{name}"][()], b[f"/particles/all/{name}"][()]):
+        sys.exit(f"FAIL: resumed langevin_msd differs in its first run's frames ({name})")
 print("ok: killed and resumed langevin_msd is identical to an uninterrupted run")
 PY
 fi

@@ -1,15 +1,17 @@
 """Result files in MDAnalysis, the two ways docs/reading-results.md shows.
 
-H5MD (3D files): MDAnalysis 2.4 reads positions, velocities, the box and the
-times of /particles/all; reduced units have no unit string it accepts, so
-the file is loaded with convert_units=False into a universe of N particles
-(its H5MD topology reader looks for a group named "trajectory" only). Every
+3D files: `granflow export --format mdanalysis` writes FILE.mda.h5md, which
+links to the frames and holds the series at the frames' steps. MDAnalysis 2.4
+cannot build a topology from H5MD opened with convert_units=False (needed:
+reduced units have no unit string it knows), so the GSD export is the
+topology: mda.Universe(FILE.gsd, FILE.mda.h5md, convert_units=False). Every
 frame is compared with the file, and the observables MDAnalysis attaches to
-each frame (ts.data) are checked to be those at the frame's time (each file
-writes frames at every output). GSD (2D and 3D): mda.Universe(file.gsd) takes
-the topology (types, masses, radii) and the frames. Physics: g(r) of the
-hard-sphere gas is 0 inside contact and at contact Carnahan-Starling's value.
-Skips (77) where MDAnalysis is not installed.
+each frame (ts.data) must be those at the frame's time, also for a file with
+fewer frames than outputs (haff_final, output.positions = final), where the
+result file itself would give frame k the k-th output's values. GSD (2D and
+3D): mda.Universe(FILE.gsd) takes the topology (types, masses, radii) and the
+frames. Physics: g(r) of the hard-sphere gas is 0 inside contact and at
+contact Carnahan-Starling's value. Skips (77) where MDAnalysis is not installed.
 
   mdanalysis_test.py DIR"""
 import warnings
@@ -24,38 +26,42 @@ InterRDF = require("MDAnalysis.analysis.rdf", "python3-mdanalysis").InterRDF
 directory, check = start("MDAnalysis " + mda.__version__)
 
 
-def open_h5md(path, n):
-    u = mda.Universe.empty(n, trajectory=False)
-    u.load_new(path, format="H5MD", convert_units=False)
-    return u
+def open_h5md(name):
+    return mda.Universe(f"{directory}/{name}.gsd", f"{directory}/{name}.mda.h5md", convert_units=False)
 
 
-for name, dimension in PARTICLE_FILES:
+for name, dimension in PARTICLE_FILES + [("haff_final", 3)]:
     truth = Frames(f"{directory}/{name}.h5md")
     if dimension == 3:
-        u = open_h5md(f"{directory}/{name}.h5md", truth.count)
-        check(u.trajectory.n_frames == truth.frames, f"{name}.h5md: {u.trajectory.n_frames} frames of {truth.frames}")
-        worst, mismatched = 0.0, set()
+        u = open_h5md(name)
+        check(u.trajectory.n_frames == truth.frames, f"{name}.mda.h5md: {u.trajectory.n_frames} frames of {truth.frames}")
+        worst, mismatched, attached = 0.0, set(), set()
         for ts in u.trajectory:
             k = ts.frame
             worst = max(worst, np.abs(u.atoms.positions - truth.positions[k]).max() / truth.edges.max(),
                         np.abs(ts.velocities - truth.velocities[k]).max() / max(1.0, np.abs(truth.velocities[k]).max()))
             if not np.allclose(ts.dimensions, [*truth.edges[k], 90, 90, 90]) or abs(ts.time - truth.times[k]) > 1e-6:
-                check(False, f"{name}.h5md frame {k}: box {ts.dimensions}, time {ts.time}")
+                check(False, f"{name}.mda.h5md frame {k}: box {ts.dimensions}, time {ts.time}")
                 break
             for key, value in ts.data.items():
                 if key not in truth.observables:
                     continue
+                attached.add(key)
                 times, values = truth.observables[key]
                 at = np.flatnonzero(times == truth.times[k])
                 if len(at) != 1 or not np.array_equal(np.asarray(value), values[at[0]]):
                     mismatched.add(key)
         # MDAnalysis keeps positions in single precision.
-        check(worst < 1e-6, f"{name}.h5md: positions and velocities within {worst:.2g} (relative)")
-        check(not mismatched, f"{name}.h5md: ts.data holds each observable at the frame's time "
-                              f"({len(truth.observables)} observables; wrong: {sorted(mismatched)})")
-        print(f"  {name}.h5md: {u.trajectory.n_frames} frames of {len(u.atoms)} atoms, box {u.dimensions[:3]}, "
-              f"observables per frame {len(u.trajectory[0].data)}")
+        check(worst < 1e-6, f"{name}.mda.h5md: positions and velocities within {worst:.2g} (relative)")
+        # Every series sampled at every frame's time reaches ts.data.
+        sampled = {key for key, (times, _) in truth.observables.items() if set(truth.times) <= set(times)}
+        check(not mismatched and attached == sampled,
+              f"{name}.mda.h5md: ts.data holds each observable at the frame's time ({len(attached)} of "
+              f"{len(truth.observables)} series are sampled at every frame; wrong: {sorted(mismatched)}, "
+              f"missing: {sorted(sampled - attached)})")
+        check(np.allclose(u.atoms.masses, truth.mass, rtol=1e-6), f"{name}: masses from the GSD topology")
+        print(f"  {name}.mda.h5md: {u.trajectory.n_frames} frames of {len(u.atoms)} atoms, box {u.dimensions[:3]}, "
+              f"observables per frame {sorted(u.trajectory[0].data)}")
     g = mda.Universe(f"{directory}/{name}.gsd")
     check(len(g.atoms) == truth.count and g.trajectory.n_frames == truth.frames,
           f"{name}.gsd: {len(g.atoms)} atoms, {g.trajectory.n_frames} frames")
@@ -74,7 +80,7 @@ for name, dimension in PARTICLE_FILES:
 # g(r) of the hard-sphere gas: zero inside contact (2r), and at contact the
 # Carnahan-Starling value chi = (1 - eta/2) / (1 - eta)^3 (Carnahan & Starling 1969).
 truth = Frames(f"{directory}/haff.h5md")
-u = open_h5md(f"{directory}/haff.h5md", truth.count)
+u = open_h5md("haff")
 sigma = 2 * truth.radius[0]
 eta = truth.count * np.pi * sigma**3 / 6 / np.prod(truth.edges[0])
 rdf = InterRDF(u.atoms, u.atoms, nbins=60, range=(0.2 * sigma, 3 * sigma), exclusion_block=(1, 1)).run()

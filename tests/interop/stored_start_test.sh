@@ -7,8 +7,9 @@
 # precision), with the box, count, radius and mass taken over; and stored
 # states that cannot start a run are refused with exit 2 and what is wrong:
 # overlapping particles, a particle outside a walled box, no velocities, a
-# tilted box, a frame that is not there. The soft-sphere beds and an SRD
-# fluid continue from their final frames too. Skips (77) without the gsd package.
+# tilted box, a frame that is not there. The soft-sphere beds, an SRD fluid
+# and a two-mass mixture continue from their final frames too. Skips (77)
+# without the gsd package.
 set -u
 granflow="$1"
 source "$(dirname "$0")/../cli/common.sh"
@@ -107,6 +108,44 @@ done
 "$granflow" run gsrd_cooling --set initial.from='"fluid.h5md"' --set run.steps=100 --set output.positions=all -q \
   -o fluid_2.h5md || { echo "FAIL: gsrd_cooling from its own final frame"; failures=$((failures + 1)); }
 continues fluid.h5md fluid_2.h5md
+
+# A two-mass mixture continued from its final frame: each particle's species
+# and mass as stored (so mass_ratio and heavy_fraction), and the kinetic
+# energy at t = 0 that of the stored velocities. A mixture refuses a state
+# without species; brownian_edmd (an ensemble of deterministic runs) takes a
+# stored state for one run only.
+"$granflow" run mixture --set system.count=400 --set mixture.heavy_fraction=0.3 --set mixture.mass_ratio=3 \
+  --set output.positions=final -q -o mixture.h5md || exit 1
+"$granflow" run mixture --set initial.from='"mixture.h5md"' --set sampling.snapshots=1 --set output.positions=final \
+  -q -o mixture_2.h5md || { echo "FAIL: mixture from its own final frame"; failures=$((failures + 1)); }
+/usr/bin/python3 - <<'PY' || failures=$((failures + 1))
+import sys
+import h5py
+import numpy as np
+a, b = h5py.File("mixture.h5md", "r"), h5py.File("mixture_2.h5md", "r")
+p = "/particles/all/"
+v, m = a[p + "velocity/value"][-1], a[p + "mass"][()]
+stored = 0.5 * np.sum(m[:, None] * v * v) / len(m)  # the observable is per particle
+energy = b["/observables/kinetic_energy/value"][0]
+mix = b["/parameters/mixture"].attrs
+same = np.array_equal(a[p + "species"][()], b[p + "species"][()]) and np.array_equal(m, b[p + "mass"][()])
+print(f"mixture continued: species and masses as stored {same}, mass_ratio {mix['mass_ratio']}, heavy_fraction "
+      f"{mix['heavy_fraction']}, kinetic energy at t = 0 {energy!r} (stored {stored!r})")
+if not same or abs(energy / stored - 1) > 1e-12 or abs(mix["mass_ratio"] - 3) > 1e-12 or abs(mix["heavy_fraction"] - 0.3) > 1e-12:
+    sys.exit("FAIL: the mixture did not start from its stored state")
+PY
+expect_run_refusal() {  # expect_run_refusal "what the message must contain" scenario [--set ...]
+  local needle="$1" scenario="$2"; shift 2
+  local output status
+  output=$("$granflow" run "$scenario" "$@" -o x.h5md 2>&1)
+  status=$?
+  if [[ $status -eq 2 && "$output" == *"$needle"* ]]; then echo "ok: $scenario $* -> $needle"
+  else echo "FAIL: $scenario $*: exit $status: $output"; failures=$((failures + 1)); fi
+}
+expect_run_refusal "has no particle species" mixture --set initial.from='"first.h5md"'
+expect_run_refusal "set run.runs = 1" brownian_edmd --set initial.from='"first.h5md"'
+"$granflow" run brownian_edmd --set initial.from='"first.h5md"' --set run.runs=1 --set run.t_stop=0.5 -q \
+  -o brownian.h5md || { echo "FAIL: brownian_edmd from a stored state"; failures=$((failures + 1)); }
 
 # States that cannot start a run.
 "$granflow" run haff_cooling --set system.boundary='"reflecting"' --set run.t_stop=0.2 -q -o walled.h5md || exit 1

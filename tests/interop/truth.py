@@ -18,7 +18,7 @@ def require(module, package):
 
 
 # (name, dimension) of the files with particle frames; the SRD files hold fields.
-PARTICLE_FILES = [("haff", 3), ("crater", 2), ("shaken", 3), ("vibrated", 3), ("gsrd", 3), ("srd2d", 2)]
+PARTICLE_FILES = [("haff", 3), ("crater", 2), ("shaken", 3), ("vibrated", 3), ("gsrd", 3), ("srd2d", 2), ("sde", 3)]
 FIELD_FILES = [("gsrd", 3), ("srd2d", 2)]
 
 
@@ -37,7 +37,7 @@ class Frames:
             else:
                 self.edges = np.tile(p["box/edges"][()], (self.frames, 1))
             self.periodic = [b.decode() == "periodic" for b in p["box"].attrs["boundary"]]
-            self.radius = p["radius"][()] if "radius" in p else None  # SRD particles are points
+            self.radius = p["radius"][()] if "radius" in p else None  # SRD and SDE particles are points
             self.mass = p["mass"][()]
             self.species = p["species"][()] if "species" in p else np.zeros(self.count, dtype=int)
             self.observables = {name: (g["time"][()], g["value"][()]) for name, g in f["/observables"].items()}

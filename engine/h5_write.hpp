@@ -1,0 +1,39 @@
+#pragma once
+// Writing HDF5 objects in one call each: strings as UTF-8, datasets whole.
+// Shared by the result file and the files derived from it.
+
+#include <string>
+#include <vector>
+
+#include "engine/h5_handle.hpp"
+
+namespace granflow {
+
+inline H5Handle string_type(std::size_t fixed_length = 0) {
+  H5Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "copy string type");
+  h5_check(H5Tset_size(type, fixed_length ? fixed_length : H5T_VARIABLE), "set string size");
+  h5_check(H5Tset_cset(type, H5T_CSET_UTF8), "set string charset");
+  return type;
+}
+
+inline void write_string_attribute(hid_t object, const std::string& name, const std::string& value) {
+  H5Handle type = string_type();
+  H5Handle space(H5Screate(H5S_SCALAR), H5Sclose, "create scalar space");
+  if (H5Aexists(object, name.c_str()) > 0) h5_check(H5Adelete(object, name.c_str()), "replace attribute " + name);
+  H5Handle attribute(H5Acreate2(object, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+                     "create attribute " + name);
+  const char* text = value.c_str();
+  h5_check(H5Awrite(attribute, type, &text), "write attribute " + name);
+}
+
+inline void write_dataset(hid_t parent, const std::string& name, hid_t mem_type, const void* data,
+                          const std::vector<hsize_t>& shape) {
+  H5Handle space(shape.empty() ? H5Screate(H5S_SCALAR)
+                               : H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr),
+                 H5Sclose, "create space for " + name);
+  H5Handle dataset(H5Dcreate2(parent, name.c_str(), mem_type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                   H5Dclose, "create dataset " + name);
+  h5_check(H5Dwrite(dataset, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write dataset " + name);
+}
+
+}  // namespace granflow
