@@ -2,6 +2,7 @@
 // Writing HDF5 objects in one call each: strings as UTF-8, datasets whole.
 // Shared by the result file and the files derived from it.
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,32 @@ inline void write_dataset(hid_t parent, const std::string& name, hid_t mem_type,
   H5Handle dataset(H5Dcreate2(parent, name.c_str(), mem_type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                    H5Dclose, "create dataset " + name);
   h5_check(H5Dwrite(dataset, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write dataset " + name);
+}
+
+template <class T>
+void write_numeric_attribute(hid_t object, const std::string& name, hid_t mem_type, const std::vector<T>& values) {
+  const hsize_t size = values.size();
+  H5Handle space(values.size() == 1 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &size, nullptr), H5Sclose,
+                 "create attribute space");
+  if (H5Aexists(object, name.c_str()) > 0) h5_check(H5Adelete(object, name.c_str()), "replace attribute " + name);
+  H5Handle attribute(H5Acreate2(object, name.c_str(), mem_type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+                     "create attribute " + name);
+  h5_check(H5Awrite(attribute, mem_type, values.data()), "write attribute " + name);
+}
+
+inline void write_string_array_attribute(hid_t object, const std::string& name,
+                                         const std::vector<std::string>& values) {
+  std::size_t width = 1;
+  for (const auto& v : values) width = std::max(width, v.size() + 1);
+  std::vector<char> packed(width * values.size(), '\0');
+  for (std::size_t k = 0; k < values.size(); ++k) values[k].copy(packed.data() + k * width, values[k].size());
+  H5Handle type = string_type(width);
+  h5_check(H5Tset_strpad(type, H5T_STR_NULLTERM), "set string padding");
+  const hsize_t size = values.size();
+  H5Handle space(H5Screate_simple(1, &size, nullptr), H5Sclose, "create attribute space");
+  H5Handle attribute(H5Acreate2(object, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+                     "create attribute " + name);
+  h5_check(H5Awrite(attribute, type, packed.data()), "write attribute " + name);
 }
 
 }  // namespace granflow

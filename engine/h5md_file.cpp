@@ -30,31 +30,6 @@ namespace {
 constexpr hsize_t frames_per_chunk = 64;
 constexpr hsize_t values_per_chunk = 8192;
 
-template <class T>
-void write_numeric_attribute(hid_t object, const std::string& name, hid_t mem_type, const std::vector<T>& values) {
-  const hsize_t size = values.size();
-  H5Handle space(values.size() == 1 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &size, nullptr), H5Sclose,
-                 "create attribute space");
-  if (H5Aexists(object, name.c_str()) > 0) h5_check(H5Adelete(object, name.c_str()), "replace attribute " + name);
-  H5Handle attribute(H5Acreate2(object, name.c_str(), mem_type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
-                     "create attribute " + name);
-  h5_check(H5Awrite(attribute, mem_type, values.data()), "write attribute " + name);
-}
-
-void write_string_array_attribute(hid_t object, const std::string& name, const std::vector<std::string>& values) {
-  std::size_t width = 1;
-  for (const auto& v : values) width = std::max(width, v.size() + 1);
-  std::vector<char> packed(width * values.size(), '\0');
-  for (std::size_t k = 0; k < values.size(); ++k) values[k].copy(packed.data() + k * width, values[k].size());
-  H5Handle type = string_type(width);
-  h5_check(H5Tset_strpad(type, H5T_STR_NULLTERM), "set string padding");
-  const hsize_t size = values.size();
-  H5Handle space(H5Screate_simple(1, &size, nullptr), H5Sclose, "create attribute space");
-  H5Handle attribute(H5Acreate2(object, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
-                     "create attribute " + name);
-  h5_check(H5Awrite(attribute, type, packed.data()), "write attribute " + name);
-}
-
 void write_string_dataset(hid_t parent, const std::string& name, const std::vector<std::string>& values,
                           bool scalar) {
   std::vector<const char*> pointers;
@@ -412,24 +387,24 @@ void H5mdFile::restore_frames(const StateMap& state) {
   }
 }
 
-// MDAnalysis refuses a unit string it does not know on the particles'
-// position, velocity and time, even when asked not to convert units, and
-// H5MD has no notation for reduced units it would know: those carry none
-// (docs/units.md gives them).
+// Reduced units (docs/units.md). MDAnalysis refuses any unit string it does
+// not know here, even when asked not to convert units: it reads the frames
+// through `granflow export --format mdanalysis`, whose datasets carry none.
 void H5mdFile::append_particle_frame(const std::string& name, std::int64_t step, double time,
                                      const std::vector<double>& data, std::size_t components) {
   std::vector<hsize_t> shape{data.size() / components};
   if (components > 1) shape.push_back(components);
-  append_to(series("/particles/all/" + name, data.size(), shape, H5T_NATIVE_DOUBLE, "", ""), step, time, data.data(),
-            name);
+  const std::string unit = name == "position" ? unit::length : name == "velocity" ? unit::velocity : "";
+  append_to(series("/particles/all/" + name, data.size(), shape, H5T_NATIVE_DOUBLE, unit, unit::time), step, time,
+            data.data(), name);
 }
 
 void H5mdFile::append_particle_frame(const std::string& name, std::int64_t step, double time,
                                      const std::vector<std::int32_t>& data, std::size_t components) {
   std::vector<hsize_t> shape{data.size() / components};
   if (components > 1) shape.push_back(components);
-  append_to(series("/particles/all/" + name, data.size(), shape, H5T_NATIVE_INT32, "", ""), step, time, data.data(),
-            name);
+  append_to(series("/particles/all/" + name, data.size(), shape, H5T_NATIVE_INT32, "", unit::time), step, time,
+            data.data(), name);
 }
 
 void H5mdFile::append_observable(const std::string& name, std::int64_t step, double time, double value) {

@@ -77,8 +77,54 @@ void write_series_at_frames(const H5mdReader& reader, const std::string& name, c
   copy_unit(reader, source + "/value", open_dataset(series, "value"));
 }
 
-void write_linked_file(const H5mdReader& reader, const ParticleFrames& frames, const std::string& result,
-                       const std::string& output, const std::string& partial) {
+// Dataset `name` reading the whole of `source_dataset` in `source_file` (an
+// HDF5 virtual dataset: nothing is copied, and the source's attributes,
+// units among them, are not seen).
+void map_whole(hid_t parent, const std::string& name, const std::string& source_file,
+               const std::string& source_dataset, const std::vector<std::uint64_t>& shape) {
+  const std::vector<hsize_t> dims(shape.begin(), shape.end());
+  H5Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose,
+                 "create space of " + name);
+  H5Handle properties(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "create properties of " + name);
+  h5_check(H5Pset_virtual(properties, space, source_file.c_str(), source_dataset.c_str(), space),
+           "map " + name + " onto " + source_dataset);
+  H5Handle dataset(H5Dcreate2(parent, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, properties, H5P_DEFAULT),
+                   H5Dclose, "create " + name);
+}
+
+// /particles/trajectory: the frames' positions and velocities mapped onto
+// the result file, their steps and times, and the box, all without units
+// (MDAnalysis refuses reduced ones).
+void write_trajectory(const H5mdReader& reader, const ParticleFrames& frames, const std::string& source,
+                      hid_t particles) {
+  const H5Handle trajectory = create_group(particles, "trajectory");
+  const hsize_t count = frames.frames;
+  for (const char* element : {"position", "velocity"}) {
+    const std::string from = particles_group + "/" + element + "/value";
+    if (!reader.exists(from)) continue;
+    const H5Handle group = create_group(trajectory, element);
+    write_dataset(group, "step", H5T_NATIVE_INT64, frames.steps.data(), {count});
+    write_dataset(group, "time", H5T_NATIVE_DOUBLE, frames.times.data(), {count});
+    map_whole(group, "value", source, from, reader.shape(from));
+  }
+  const H5Handle box = create_group(trajectory, "box");
+  write_numeric_attribute<int>(box, "dimension", H5T_NATIVE_INT, {static_cast<int>(frames.dimension)});
+  write_string_array_attribute(box, "boundary", reader.string_list_attribute(particles_group + "/box", "boundary"));
+  // Each frame's box as the D x D matrix of its edges, the form MDAnalysis reads.
+  const H5Handle edges = create_group(box, "edges");
+  write_dataset(edges, "step", H5T_NATIVE_INT64, frames.steps.data(), {count});
+  write_dataset(edges, "time", H5T_NATIVE_DOUBLE, frames.times.data(), {count});
+  const std::size_t d = frames.dimension;
+  std::vector<double> matrices(count * d * d, 0.0);
+  for (std::size_t f = 0; f < count; ++f) {
+    const auto frame_edges = frames.edges(f);
+    for (std::size_t a = 0; a < d; ++a) matrices[(f * d + a) * d + a] = frame_edges[a];
+  }
+  write_dataset(edges, "value", H5T_NATIVE_DOUBLE, matrices.data(), {count, d, d});
+}
+
+void write_view(const H5mdReader& reader, const ParticleFrames& frames, const std::string& result,
+                const std::string& output, const std::string& partial) {
   H5Handle file(H5Fcreate(partial.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, "create " + partial);
   const std::string source = std::filesystem::relative(std::filesystem::absolute(result),
                                                        std::filesystem::absolute(output).parent_path())
@@ -86,9 +132,7 @@ void write_linked_file(const H5mdReader& reader, const ParticleFrames& frames, c
   h5_check(H5Lcreate_external(source.c_str(), "/h5md", file, "h5md", H5P_DEFAULT, H5P_DEFAULT), "link /h5md");
   {
     const H5Handle particles = create_group(file, "particles");
-    h5_check(H5Lcreate_external(source.c_str(), particles_group.c_str(), particles, "trajectory", H5P_DEFAULT,
-                                H5P_DEFAULT),
-             "link /particles/trajectory");
+    write_trajectory(reader, frames, source, particles);
     const H5Handle observables = create_group(file, "observables");
     std::vector<std::string> kept, left_out;
     if (reader.exists("/observables"))
@@ -122,7 +166,7 @@ std::size_t export_mdanalysis(const std::string& result, const std::string& outp
                                  result, frames.dimension, frames.dimension));
   const std::string partial = output + ".partial";
   try {
-    write_linked_file(reader, frames, result, output, partial);
+    write_view(reader, frames, result, output, partial);
   } catch (...) {
     std::error_code ignored;
     std::filesystem::remove(partial, ignored);
