@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "cuda/srd_device.cuh"
+#include "device/srd_device.hpp"
 #include "engine/rng.hpp"
 #include "engine/stream_ids.hpp"
 #include "systems/srd/grid_shift.hpp"
@@ -67,7 +67,7 @@ double bytes_per_particle_step(int sort_bits, double n0, double reorder) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (const std::string why = granflow::cuda::srd_device_unavailable(); !why.empty()) {
+  if (const std::string why = granflow::device::srd_device_unavailable(); !why.empty()) {
     fmt::print(stderr, "granflow_srd_gpu_bench: {}\n", why);
     return 77;
   }
@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
     const auto side = static_cast<std::int32_t>(std::llround(std::cbrt(wanted / n0)));
     const std::size_t cells = static_cast<std::size_t>(side) * side * side;
     const auto n = static_cast<std::size_t>(n0 * static_cast<double>(cells));
-    granflow::cuda::SrdDeviceSetup s;
+    granflow::device::SrdDeviceSetup s;
     s.dimension = 3;
     for (int a = 0; a < 3; ++a) {
       s.cells[a] = side;
@@ -103,11 +103,11 @@ int main(int argc, char** argv) {
       for (int a = 0; a < 3; ++a) x[3 * i + a] = random.uniform() * side;
       for (int a = 0; a < 3; ++a) v[3 * i + a] = random.normal();
     });
-    granflow::cuda::SrdDevice device(s, n);
+    granflow::device::SrdDevice device(s, n);
     device.upload(x.data(), v.data());
     const auto run = [&](std::uint64_t first, std::uint64_t steps) {
       for (std::uint64_t step = first; step < first + steps; ++step) {
-        granflow::cuda::SrdDeviceStep in;
+        granflow::device::SrdDeviceStep in;
         in.step = step;
         in.start_time = (step - 1) * dt;
         in.end_time = step * dt;

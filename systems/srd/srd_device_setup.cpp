@@ -1,10 +1,15 @@
-// srd.device = "cuda": the device step where this build has the CUDA back
-// end (GRANFLOW_HAVE_CUDA), else the error that says so. Kept apart from
-// the scenarios so that only this file is compiled differently.
+// srd.device = "cuda" or "thrust_host": the device step where this build
+// has that back end (GRANFLOW_HAVE_DEVICE_STEP: device/srd_device.cpp built
+// as CUDA, or for Thrust's host back end), else the error that says so. Kept
+// apart from the scenarios so that only this file is compiled differently.
 
 #include "systems/srd/srd_setup.hpp"
 
-#if GRANFLOW_HAVE_CUDA
+#include <fmt/format.h>
+
+#include <string>
+
+#if GRANFLOW_HAVE_DEVICE_STEP
 #include "systems/srd/srd_device_step.hpp"
 #endif
 
@@ -14,9 +19,17 @@ template <int D>
 void add_device_step([[maybe_unused]] Run& run, [[maybe_unused]] const SrdCells<D>& cells,
                      [[maybe_unused]] std::size_t particles, [[maybe_unused]] const BodyForce<D>& force,
                      [[maybe_unused]] std::uint64_t reorder_interval, [[maybe_unused]] bool walled) {
-#if GRANFLOW_HAVE_CUDA
+#if GRANFLOW_HAVE_DEVICE_STEP
   const Config& c = run.config();
-  if (const std::string why = cuda::srd_device_unavailable(); !why.empty())
+  const std::string wanted = c.text("srd.device"), built = device::srd_device_backend();
+  if (wanted != built)
+    throw ConfigError(fmt::format("srd.device = \"{}\": this build's device step is \"{}\" ({}); use srd.device = "
+                                  "\"{}\" or \"cpu\"",
+                                  wanted, built,
+                                  built == std::string("cuda") ? "configured with -DGRANFLOW_CUDA=ON"
+                                                               : "configured without CUDA: -DGRANFLOW_CUDA=ON needs nvcc",
+                                  built));
+  if (const std::string why = device::srd_device_unavailable(); !why.empty())
     throw ConfigError("srd.device = \"cuda\": " + why + "; use srd.device = \"cpu\" on this machine");
   DeviceStepParameters p;
   p.dt = c.real("srd.time_step");
@@ -33,8 +46,10 @@ void add_device_step([[maybe_unused]] Run& run, [[maybe_unused]] const SrdCells<
   p.thermostat_removes_drift = !walled;
   run.step<SrdDeviceStep<D>>(p, cells, particles);
 #else
-  throw ConfigError("srd.device = \"cuda\": this build has no CUDA back end; configure with -DGRANFLOW_CUDA=ON "
-                    "(needs nvcc) or use srd.device = \"cpu\"");
+  throw ConfigError(fmt::format("srd.device = \"{}\": this build has no device step (configure with "
+                                "-DGRANFLOW_CUDA=ON, which needs nvcc, or install Thrust's headers, Debian's "
+                                "libthrust-dev, for \"thrust_host\"); use srd.device = \"cpu\"",
+                                run.config().text("srd.device")));
 #endif
 }
 

@@ -1,15 +1,17 @@
 #pragma once
-// The whole SRD step on a CUDA device (srd.device = "cuda"): one system in
-// place of streaming, grid shift, binning, reduction, rotation and
-// thermostat, with the particle columns resident in device memory
-// (cuda/srd_device.cuh). The host computes what the CPU systems compute
+// The whole SRD step on the device step's back end (srd.device = "cuda" on
+// an NVIDIA GPU, "thrust_host" on Thrust's oneTBB host back end): one system
+// in place of streaming, grid shift, binning, reduction, rotation and
+// thermostat, with the particle columns resident in the back end's memory
+// (device/srd_device.hpp). The host computes what the CPU systems compute
 // from the clock alone (the step number, the grid shift, the Lees-Edwards
 // state) and copies the state back only when observers or a checkpoint
 // read it (synchronise_host): the particles and this step's cell data, in
 // the device's storage order, which is the CPU's as both put the particles
 // in cell order at the same steps.
 //
-// Only in builds with GRANFLOW_CUDA; srd_setup.hpp refuses the key elsewhere.
+// Only in builds with a device step (GRANFLOW_HAVE_DEVICE_STEP);
+// srd_device_setup.cpp refuses the key elsewhere.
 
 #include <spdlog/spdlog.h>
 
@@ -21,7 +23,7 @@
 #include "components/clock.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
-#include "cuda/srd_device.cuh"
+#include "device/srd_device.hpp"
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
@@ -33,7 +35,7 @@
 namespace granflow::srd {
 
 inline const SystemDescription srd_device_step_description{
-    "srd_device_step", "the SRD step on a CUDA device: streaming to thermostat, the columns resident there"};
+    "srd_device_step", "the SRD step on a GPU or Thrust's host back end: streaming to thermostat, the columns resident there"};
 
 struct DeviceStepParameters {
   double dt = 1.0;
@@ -51,7 +53,7 @@ template <int D>
 class SrdDeviceStep : public System {
  public:
   SrdDeviceStep(const DeviceStepParameters& p, const SrdCells<D>& cells, std::size_t particles) : p_(p) {
-    cuda::SrdDeviceSetup s;
+    device::SrdDeviceSetup s;
     s.dimension = D;
     for (int a = 0; a < D; ++a) {
       s.cells[a] = cells.cells[a];
@@ -80,8 +82,9 @@ class SrdDeviceStep : public System {
     s.thermostat = p.thermostat;
     s.thermostat_removes_drift = p.thermostat_removes_drift;
     s.reorder_interval = p.reorder_interval;
-    device_ = std::make_unique<cuda::SrdDevice>(s, particles);
-    spdlog::info("SRD on the CUDA device: {:.3g} GB of device memory for {} particles", device_->bytes() / 1e9, particles);
+    device_ = std::make_unique<device::SrdDevice>(s, particles);
+    spdlog::info("SRD device step ({}): {:.3g} GB for {} particles", device::srd_device_backend(),
+                 device_->bytes() / 1e9, particles);
   }
 
   std::string name() const override { return "srd_device_step"; }
@@ -94,7 +97,7 @@ class SrdDeviceStep : public System {
       device_->upload(world.component<Position<D>>().data()->data(), world.component<Velocity<D>>().data()->data());
       uploaded_ = true;
     }
-    cuda::SrdDeviceStep in;
+    device::SrdDeviceStep in;
     in.start_time = clock.time;
     ++clock.step;
     clock.time = static_cast<double>(clock.step) * p_.dt;
@@ -104,7 +107,7 @@ class SrdDeviceStep : public System {
     in.shear = cells.shear;
     SrdGridShift<D>::draw(cells.shift, p_.seed, in.step, p_.grid_shift);
     for (int a = 0; a < D; ++a) in.shift[a] = cells.shift[a];
-    const cuda::SrdDeviceReport report = device_->step(in);
+    const device::SrdDeviceReport report = device_->step(in);
     cells.wall_reflections += report.reflections;
     cells.clamped_cells = report.clamped_cells;
     cells.step_wall_work = report.wall_work;
@@ -124,7 +127,7 @@ class SrdDeviceStep : public System {
     auto& cells = world.resource<SrdCells<D>>();
     cells.image.resize(D >= 2 && cells.shear.velocity != 0.0 ? world.size() : 0);
     if (cells.record_moments) cells.moment.resize(cells.cell_count());
-    cuda::SrdHostArrays host;
+    device::SrdHostArrays host;
     host.x = world.component<Position<D>>().data()->data();
     host.v = world.component<Velocity<D>>().data()->data();
     host.cell = cells.cell.data();
@@ -143,7 +146,7 @@ class SrdDeviceStep : public System {
 
  private:
   DeviceStepParameters p_;
-  std::unique_ptr<cuda::SrdDevice> device_;
+  std::unique_ptr<device::SrdDevice> device_;
   bool uploaded_ = false;
   bool host_current_ = true;
   bool warned_ = false;

@@ -71,9 +71,10 @@ inline void declare_srd_keys(ConfigSchema& s, const SrdDefaults& d) {
                "between 5 and 100)")
       .real("shear.rate", d.shear_rate, 0.0, inf, "shear rate du_x/dy through Lees-Edwards planes along y (0: none)")
       .real("thermostat.temperature", d.thermostat, 0.0, inf, "target temperature of the global thermostat (0: none)")
-      .choice("srd.device", "cpu", {"cpu", "cuda"},
-              "where the step runs: cpu (every core, oneTBB) or cuda (an NVIDIA GPU; needs a build with "
-              "GRANFLOW_CUDA=ON and a CUDA driver)")
+      .choice("srd.device", "cpu", {"cpu", "cuda", "thrust_host"},
+              "where the step runs: cpu (the CPU systems, every core), cuda (the device step on an NVIDIA GPU; a "
+              "build with GRANFLOW_CUDA=ON and a CUDA driver) or thrust_host (the device step's source on Thrust's "
+              "oneTBB back end: a build without CUDA, with Thrust's headers)")
       .integer("run.steps", d.steps, 1, 1000000000000, "collision steps to run")
       .integer("fields.every_steps", 0, 0, 1000000000000,
                "steps between density, velocity and temperature fields to /fields (0: none)")
@@ -296,7 +297,7 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = 
                             ? static_cast<std::uint64_t>(c.integer("srd.reorder_interval"))
                             : reorder_interval_for(std::sqrt(hottest) * dt);
   run.derive("reorder_interval", static_cast<double>(interval));
-  if (c.text("srd.device") == "cuda") {
+  if (c.text("srd.device") != "cpu") {
     add_device_step<D>(run, state, n, force, interval, walled);
   } else {
     run.step<SrdStreaming<D>>(dt, rate, force);

@@ -27,7 +27,7 @@
 #include "components/clock.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
-#include "cuda/srd_device.cuh"
+#include "device/srd_device.hpp"
 #include "engine/rng.hpp"
 #include "engine/stream_ids.hpp"
 #include "engine/world.hpp"
@@ -43,7 +43,7 @@ namespace granflow::srd {
 namespace {
 
 std::string no_device() {
-  const std::string why = cuda::srd_device_unavailable();
+  const std::string why = device::srd_device_unavailable();
   return why.empty() ? "" : why + ": GPU check skipped";
 }
 
@@ -164,7 +164,9 @@ void compare(const Case& c, const std::string& what) {
   for (std::size_t k = 0; k < cpu.cells().cell_count(); ++k) {
     ASSERT_EQ(cpu.cells().count[k], gpu.cells().count[k]) << what << ", cell " << k;
     ASSERT_NEAR(cpu.cells().theta[k], gpu.cells().theta[k], 1e-12) << what << ", cell " << k;
-    if (c.shear_rate > 0) ASSERT_NEAR(cpu.cells().transfer[k], gpu.cells().transfer[k], 1e-11) << what << ", cell " << k;
+    if (c.shear_rate > 0) {
+      ASSERT_NEAR(cpu.cells().transfer[k], gpu.cells().transfer[k], 1e-11) << what << ", cell " << k;
+    }
   }
   if (c.record_energy) {
     EXPECT_NEAR(cpu.cells().step_collision_energy, gpu.cells().step_collision_energy, 1e-9 * cpu.energy()) << what;

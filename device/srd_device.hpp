@@ -1,15 +1,21 @@
 #pragma once
-// The SRD step on an NVIDIA GPU, with the particle columns resident in
-// device memory: plain C++ types only, so that host code includes it
-// without the CUDA headers (the kernels are in srd_device.cu). Each stage
-// calls the same GRANFLOW_HD functions as the CPU systems, in the same
-// order: streaming (systems/srd/srd_walls.hpp, srd_kernels.hpp), the
-// shifted cell of each particle, a stable radix sort of (cell, particle)
-// (CUB), each cell's sums in storage order about its first particle and
-// its ghosts (srd_cell_kernels.hpp), each cell's collision operator, each
-// particle's collision, then the thermostat. Every `reorder_interval` steps
-// the columns are gathered into cell order, as the CPU's counting sort puts
-// them, so both back ends keep the particles in the same order.
+// The SRD step with the particle columns resident in a Thrust back end's
+// memory: one source (device/srd_device.cpp) that nvcc compiles for an
+// NVIDIA GPU (srd.device = "cuda") and g++ compiles for Thrust's oneTBB host
+// back end (srd.device = "thrust_host"), so that the step's orchestration
+// runs in every build and is tested on the CPU before any GPU sees it.
+// Plain C++ types only: host code includes it without CUDA or Thrust headers.
+//
+// Each stage calls the same GRANFLOW_HD functions as the CPU systems, in
+// the same order: streaming (systems/srd/srd_walls.hpp, srd_kernels.hpp),
+// the shifted cell of each particle, a stable sort of (cell, particle), each
+// cell's sums in storage order about its first particle and its ghosts
+// (srd_cell_kernels.hpp), each cell's collision operator, each particle's
+// collision, then the thermostat. Every `reorder_interval` steps the columns
+// are gathered into cell order, as the CPU's counting sort puts them, so
+// both keep the particles in the same order. Global sums (the thermostat's,
+// the energy ledger's, the counts) add fixed blocks of particles and then
+// the blocks in order, so they are the same on any thread count and back end.
 
 #include <cstdint>
 #include <memory>
@@ -21,10 +27,13 @@
 #include "systems/srd/srd_kernels.hpp"
 #include "systems/srd/srd_walls.hpp"
 
-namespace granflow::cuda {
+namespace granflow::device {
 
-// Empty where a CUDA device is usable; otherwise why not (no driver, no
-// device), in words for an error message.
+// The back end this build compiled the step for: "cuda" or "thrust_host".
+const char* srd_device_backend();
+
+// Empty where the back end is usable (the host one always is); otherwise why
+// not (no CUDA driver, no device), in words for an error message.
 std::string srd_device_unavailable();
 
 struct SrdDeviceSetup {
@@ -100,9 +109,10 @@ class SrdDevice {
   void upload(const double* x, const double* v);
   SrdDeviceReport step(const SrdDeviceStep& step);
   void download(const SrdHostArrays& host);
-  // Per stage: launches and the time between CUDA events around them.
+  // Per stage: calls and time (between CUDA events on a GPU, by the wall
+  // clock on the host).
   std::vector<ProfileEntry> profile() const;
-  // Device memory held, in bytes.
+  // Memory the back end holds, in bytes.
   std::size_t bytes() const;
 
  private:
@@ -110,4 +120,4 @@ class SrdDevice {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace granflow::cuda
+}  // namespace granflow::device
