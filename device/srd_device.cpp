@@ -342,11 +342,73 @@ struct BlockSum {
   }
 };
 
+// Per block of particles, per layer across `axis`: particles, sum of
+// v[flow], of |v|^2 and of each v_a (width 3 + D).
+template <int D>
+struct LayerBlocks {
+  const double* x;
+  const double* v;
+  std::size_t n;
+  int axis, flow, layers;
+  double* rows;  // blocks x layers x (3 + D)
+  GRANFLOW_HD void operator()(std::size_t b) const {
+    const int width = 3 + D;
+    double* row = rows + b * static_cast<std::size_t>(layers * width);
+    for (int k = 0; k < layers * width; ++k) row[k] = 0.0;
+    const std::size_t from = b * block_size;
+    const std::size_t to = from + block_size < n ? from + block_size : n;
+    for (std::size_t i = from; i < to; ++i) {
+      const double along = floor(x[D * i + axis]);
+      const int k = along < 0.0 ? 0 : along >= layers - 1 ? layers - 1 : static_cast<int>(along);
+      double* s = row + k * width;
+      double v2 = 0.0;
+      for (int a = 0; a < D; ++a) v2 += v[D * i + a] * v[D * i + a];
+      s[0] += 1.0;
+      s[1] += v[D * i + flow];
+      s[2] += v2;
+      for (int a = 0; a < D; ++a) s[3 + a] += v[D * i + a];
+    }
+  }
+};
+
+// Per block of particles: sums of vx vy, vy (y - L_y / 2) and vy^2.
+template <int D>
+struct StressBlocks {
+  const double* x;
+  const double* v;
+  std::size_t n;
+  double half;
+  double* rows;  // blocks x 3
+  GRANFLOW_HD void operator()(std::size_t b) const {
+    double s[3] = {0, 0, 0};
+    const std::size_t from = b * block_size;
+    const std::size_t to = from + block_size < n ? from + block_size : n;
+    for (std::size_t i = from; i < to; ++i) {
+      const double vx = v[D * i], vy = v[D * i + 1];
+      s[0] += vx * vy;
+      s[1] += vy * (x[D * i + 1] - half);
+      s[2] += vy * vy;
+    }
+    for (int k = 0; k < 3; ++k) rows[3 * b + k] = s[k];
+  }
+};
+
 // The stages /profile names.
-enum Stage { stream_stage, sort_stage, reduce_stage, collide_stage, thermostat_stage, reorder_stage, stage_count };
-constexpr const char* stage_names[stage_count] = {"srd_device_step/stream_and_bin", "srd_device_step/sort",
-                                                  "srd_device_step/reduce", "srd_device_step/collide",
-                                                  "srd_device_step/thermostat", "srd_device_step/reorder"};
+enum Stage {
+  stream_stage,
+  sort_stage,
+  reduce_stage,
+  collide_stage,
+  thermostat_stage,
+  reorder_stage,
+  sums_stage,
+  download_stage,
+  stage_count
+};
+constexpr const char* stage_names[stage_count] = {
+    "srd_device_step/stream_and_bin", "srd_device_step/sort",       "srd_device_step/reduce",
+    "srd_device_step/collide",        "srd_device_step/thermostat", "srd_device_step/reorder",
+    "srd_device_step/observer_sums",  "srd_device_step/download"};
 
 // Times each stage: between CUDA events on a GPU (read once the step is
 // done), by the wall clock on the host, where each algorithm returns when done.
@@ -461,8 +523,36 @@ struct SrdDevice::Impl {
     return total;
   }
 
+  // Blocks of `width` numbers each, summed in block order on the host.
+  std::vector<double> sum_rows(std::size_t blocks, std::size_t width) {
+    partial_host.resize(blocks * width);
+    thrust::copy(partial.begin(), partial.begin() + static_cast<std::ptrdiff_t>(blocks * width), partial_host.begin());
+    std::vector<double> total(width, 0.0);
+    for (std::size_t b = 0; b < blocks; ++b)
+      for (std::size_t k = 0; k < width; ++k) total[k] += partial_host[b * width + k];
+    return total;
+  }
+
   template <int D>
-  SrdDeviceReport step(const SrdDeviceStep& in);
+  void observer_sums(const SrdSumRequests& requests, SrdDeviceReport& report) {
+    const std::size_t blocks = (n + block_size - 1) / block_size;
+    for (const SrdLayerRequest& r : requests.layers) {
+      const std::size_t width = static_cast<std::size_t>(r.layers) * (3 + D);
+      if (partial.size() < blocks * width) partial.resize(blocks * width);
+      for_each_index(blocks, LayerBlocks<D>{raw(x), raw(v), n, r.axis, r.flow, r.layers, raw(partial)});
+      report.layer_sums.push_back(sum_rows(blocks, width));
+    }
+    if (requests.stress) {
+      if (partial.size() < blocks * 3) partial.resize(blocks * 3);
+      for_each_index(blocks, StressBlocks<D>{raw(x), raw(v), n, 0.5 * setup.length[1], raw(partial)});
+      const auto s = sum_rows(blocks, 3);
+      for (int k = 0; k < 3; ++k) report.stress_sums[k] = s[static_cast<std::size_t>(k)];
+      report.transfer_sum = sum(raw(transfer), transfer.size());
+    }
+  }
+
+  template <int D>
+  SrdDeviceReport step(const SrdDeviceStep& in, const SrdSumRequests& sums);
 };
 
 SrdDevice::SrdDevice(const SrdDeviceSetup& setup, std::size_t particles) : impl_(std::make_unique<Impl>()) {
@@ -524,7 +614,7 @@ void SrdDevice::upload(const double* x, const double* v) {
 }
 
 template <int D>
-SrdDeviceReport SrdDevice::Impl::step(const SrdDeviceStep& in) {
+SrdDeviceReport SrdDevice::Impl::step(const SrdDeviceStep& in, const SrdSumRequests& sums) {
   StepConstants k{};
   k.setup = setup;
   k.step = in;
@@ -611,6 +701,11 @@ SrdDeviceReport SrdDevice::Impl::step(const SrdDeviceStep& in) {
     timer.finish(thermostat_stage);
   }
 
+  if (!sums.layers.empty() || sums.stress) {
+    timer.begin(sums_stage);
+    observer_sums<D>(sums, report);
+    timer.finish(sums_stage);
+  }
   report.reflections = static_cast<std::uint64_t>(sum(raw(reflections), n));
   report.clamped_cells = static_cast<std::uint64_t>(sum(raw(clamped), cell_count));
 #if defined(__CUDACC__)
@@ -621,12 +716,13 @@ SrdDeviceReport SrdDevice::Impl::step(const SrdDeviceStep& in) {
   return report;
 }
 
-SrdDeviceReport SrdDevice::step(const SrdDeviceStep& step) {
-  return impl_->setup.dimension == 2 ? impl_->step<2>(step) : impl_->step<3>(step);
+SrdDeviceReport SrdDevice::step(const SrdDeviceStep& step, const SrdSumRequests& sums) {
+  return impl_->setup.dimension == 2 ? impl_->step<2>(step, sums) : impl_->step<3>(step, sums);
 }
 
 void SrdDevice::download(const SrdHostArrays& host) {
   Impl& d = *impl_;
+  d.timer.begin(download_stage);
   copy_to_host(host.x, d.x, "copy of positions to the host");
   copy_to_host(host.v, d.v, "copy of velocities to the host");
   copy_to_host(host.cell, d.cell, "copy of cells to the host");
@@ -637,6 +733,11 @@ void SrdDevice::download(const SrdHostArrays& host) {
   copy_to_host(host.velocity, d.velocity, "copy of cell velocities to the host");
   copy_to_host(host.theta, d.theta, "copy of cell temperatures to the host");
   copy_to_host(host.transfer, d.transfer, "copy of collisional transfers to the host");
+  d.timer.finish(download_stage);
+#if defined(__CUDACC__)
+  check(cudaDeviceSynchronize(), "copy to the host");
+#endif
+  d.timer.collect();
 }
 
 std::vector<ProfileEntry> SrdDevice::profile() const { return impl_->timer.entries(); }

@@ -72,12 +72,31 @@ struct SrdDeviceStep {
   srd::Shear shear;
 };
 
+// Sums over the particles that observers sampling every step need, so that
+// the state is not copied back for them: per layer one cell thick across
+// `axis` (positions below 0 or beyond the last layer counted in the outer
+// ones), 3 + D numbers: particles, sum of v[flow], of |v|^2 and of each v_a;
+// with `stress`, the sums of vx vy, vy (y - L_y / 2) and vy^2 over all
+// particles, and of the collisional transfer over the cells.
+struct SrdLayerRequest {
+  int axis = 0;
+  int flow = 0;
+  int layers = 1;
+};
+struct SrdSumRequests {
+  std::vector<SrdLayerRequest> layers;
+  bool stress = false;
+};
+
 struct SrdDeviceReport {
   std::uint64_t reflections = 0;
   std::uint64_t clamped_cells = 0;
   double wall_work = 0.0;
   double collision_energy = 0.0;
   double ghost_cell_energy = 0.0;
+  std::vector<std::vector<double>> layer_sums;  // per request, layers x (3 + D)
+  double stress_sums[3] = {0, 0, 0};            // vx vy, vy (y - L_y / 2), vy^2
+  double transfer_sum = 0.0;
 };
 
 // Host arrays download() fills: particles (D doubles each for x and v), per
@@ -107,7 +126,8 @@ class SrdDevice {
   SrdDevice& operator=(const SrdDevice&) = delete;
 
   void upload(const double* x, const double* v);
-  SrdDeviceReport step(const SrdDeviceStep& step);
+  // One step, and the sums `sums` asks for at its end.
+  SrdDeviceReport step(const SrdDeviceStep& step, const SrdSumRequests& sums = {});
   void download(const SrdHostArrays& host);
   // Per stage: calls and time (between CUDA events on a GPU, by the wall
   // clock on the host).

@@ -119,8 +119,13 @@ void Run::run_observers(Due&& due) {
     any = any || enabled_[k];
   }
   if (!any) return;
-  synchronise_host();
-  enabled_.back() = true;  // the recorder
+  enabled_.back() = true;  // the recorder, which reads only observables
+  const auto& observers = observers_.systems();
+  for (std::size_t k = 0; k + 1 < observers.size(); ++k)
+    if (enabled_[k] && observers[k]->reads_device_state(world_)) {
+      synchronise_host();
+      break;
+    }
   observers_.run(world_, enabled_);
 }
 

@@ -31,6 +31,7 @@
 #include "engine/units.hpp"
 #include "engine/world.hpp"
 #include "systems/srd/srd_cells.hpp"
+#include "systems/srd/srd_step_sums.hpp"
 
 namespace granflow::srd {
 
@@ -42,6 +43,9 @@ inline const SystemDescription observe_srd_viscosity_description{
 // Sums over the sampled steps, and the same per block for the errors.
 class ShearStress : public Stateful {
  public:
+  // Shared by the sampler and the observer (not a World resource): the key
+  // of their access declarations, which orders them.
+  static constexpr const char* key = "srd_shear_stress";
   ShearStress(int slabs, double dt, std::int64_t block) : profile_(slabs, 0.0), counts_(slabs, 0.0), dt_(dt), block_(block) {}
 
   // One step's per-particle means (mass-weighted) and the profile.
@@ -155,10 +159,34 @@ class ShearStressSampler : public System {
   explicit ShearStressSampler(std::shared_ptr<ShearStress> sums) : sums_(std::move(sums)) {}
 
   std::string name() const override { return "sample_srd_stress"; }
-  Access access() const override { return Access{}.reads<Position<D>, Velocity<D>, SrdCells<D>, Clock>(); }
+  Access access() const override {
+    return Access{}.reads<Position<D>, Velocity<D>, SrdCells<D>, Clock>().template writes<ShearStress, SrdStepSums<D>>();
+  }
+  bool reads_device_state(const World& world) const override { return !on_device(world); }
 
   void run(World& world) override {
     const auto& cells = world.resource<SrdCells<D>>();
+    const std::size_t slabs = static_cast<std::size_t>(cells.cells[1]);
+    if (on_device(world)) {
+      const auto& device = world.resource<SrdStepSums<D>>();
+      const auto& rows = device.layers[request_];
+      const double m0 = cells.particle_mass, n = static_cast<double>(world.size());
+      std::vector<double> slab_vx(slabs), slab_count(slabs);
+      for (std::size_t k = 0; k < slabs; ++k) {
+        slab_count[k] = rows[k * (3 + D)];
+        slab_vx[k] = rows[k * (3 + D) + 1];
+      }
+      sums_->add(m0 * device.stress[0] / n, m0 * device.stress[1] / n, m0 * device.stress[2] / n, m0, device.transfer,
+                 slab_vx, slab_count);
+      return;
+    }
+    // Particles of one mass (no Mass column): from the next step on, the device step sums.
+    if (world.has_resource<SrdStepSums<D>>() && !world.has_component<Mass>()) {
+      auto& device = world.resource<SrdStepSums<D>>();
+      request_ = device.ask({1, 0, static_cast<int>(slabs)});
+      device.stress_requested = true;
+      asked_ = true;
+    }
     const auto& x = world.component<Position<D>>();
     const auto& v = world.component<Velocity<D>>();
     const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
@@ -181,7 +209,14 @@ class ShearStressSampler : public System {
   }
 
  private:
+  bool on_device(const World& world) const {
+    return asked_ && world.has_resource<SrdStepSums<D>>() &&
+           world.resource<SrdStepSums<D>>().has_layers(request_, world.resource<Clock>().step);
+  }
+
   std::shared_ptr<ShearStress> sums_;
+  bool asked_ = false;
+  std::size_t request_ = 0;
 };
 
 template <int D>
@@ -193,6 +228,7 @@ class ShearViscosityObserver : public System {
   Access access() const override {
     return Access{}
         .reads<Velocity<D>>()
+        .template writes<ShearStress>()
         .writes_observable("shear_rate_measured", unit::rate)
         .writes_observable("viscosity_kinetic", unit::diffusivity)
         .writes_observable("viscosity_collisional", unit::diffusivity);

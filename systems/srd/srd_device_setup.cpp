@@ -44,6 +44,7 @@ void add_device_step([[maybe_unused]] Run& run, [[maybe_unused]] const SrdCells<
   p.reorder_interval = reorder_interval;
   p.thermostat = c.real("thermostat.temperature");
   p.thermostat_removes_drift = !walled;
+  run.world().template emplace_resource<SrdStepSums<D>>();
   run.step<SrdDeviceStep<D>>(p, cells, particles);
 #else
   throw ConfigError(fmt::format("srd.device = \"{}\": this build has no device step (configure with "

@@ -30,6 +30,7 @@
 #include "systems/srd/grid_shift.hpp"
 #include "systems/srd/rotation.hpp"
 #include "systems/srd/srd_cells.hpp"
+#include "systems/srd/srd_step_sums.hpp"
 #include "systems/srd/streaming.hpp"
 
 namespace granflow::srd {
@@ -88,11 +89,20 @@ class SrdDeviceStep : public System {
   }
 
   std::string name() const override { return "srd_device_step"; }
-  Access access() const override { return Access{}.writes<Position<D>, Velocity<D>, Clock, SrdCells<D>>(); }
+  Access access() const override {
+    return Access{}.writes<Position<D>, Velocity<D>, Clock, SrdCells<D>, SrdStepSums<D>>();
+  }
 
   void run(World& world) override {
     auto& clock = world.resource<Clock>();
     auto& cells = world.resource<SrdCells<D>>();
+    // Observers' sums, where the World offers them (srd_step_sums.hpp).
+    SrdStepSums<D>* sums = world.has_resource<SrdStepSums<D>>() ? &world.resource<SrdStepSums<D>>() : nullptr;
+    device::SrdSumRequests requests;
+    if (sums) {
+      for (const LayerSumsRequest& r : sums->layer_requests) requests.layers.push_back({r.axis, r.flow, r.layers});
+      requests.stress = sums->stress_requested;
+    }
     if (!uploaded_) {  // the initial state, or the one a checkpoint restored
       device_->upload(world.component<Position<D>>().data()->data(), world.component<Velocity<D>>().data()->data());
       uploaded_ = true;
@@ -107,7 +117,13 @@ class SrdDeviceStep : public System {
     in.shear = cells.shear;
     SrdGridShift<D>::draw(cells.shift, p_.seed, in.step, p_.grid_shift);
     for (int a = 0; a < D; ++a) in.shift[a] = cells.shift[a];
-    const device::SrdDeviceReport report = device_->step(in);
+    device::SrdDeviceReport report = device_->step(in, requests);
+    if (sums) {
+      sums->step = clock.step;
+      sums->layers = std::move(report.layer_sums);
+      for (int k = 0; k < 3; ++k) sums->stress[k] = report.stress_sums[k];
+      sums->transfer = report.transfer_sum;
+    }
     cells.wall_reflections += report.reflections;
     cells.clamped_cells = report.clamped_cells;
     cells.step_wall_work = report.wall_work;

@@ -67,6 +67,8 @@ class SrdEnergyAccount : public System {
   explicit SrdEnergyAccount(std::shared_ptr<EnergyLedger> ledger) : ledger_(std::move(ledger)) {}
   std::string name() const override { return "account_srd_energy"; }
   Access access() const override { return Access{}.reads<SrdCells<D>>().template writes<EnergyLedger>(); }
+  // The step's energies are set on the host every step, wherever the step runs.
+  bool reads_device_state(const World&) const override { return false; }
   void run(World& world) override {
     const auto& cells = world.resource<SrdCells<D>>();
     if (!cells.record_energy) throw std::logic_error("account_srd_energy needs SrdCells::record_energy");

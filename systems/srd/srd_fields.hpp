@@ -56,10 +56,13 @@ class SrdFieldWriter : public System, public Stateful {
     return Access{}.reads<Position<D>, Velocity<D>, Clock, SrdCells<D>>().template writes<OutputFile>();
   }
 
+  // Only the steps of a window read the particles.
+  bool reads_device_state(const World& world) const override { return in_window(world.resource<Clock>().step); }
+
   void run(World& world) override {
     const auto& clock = world.resource<Clock>();
+    if (!in_window(clock.step)) return;
     const std::int64_t phase = clock.step % every_;
-    if (phase != 0 && phase <= every_ - window_) return;
     sample(world);
     if (phase != 0) return;
     H5mdFile* file = world.resource<OutputFile>().file;
@@ -103,6 +106,11 @@ class SrdFieldWriter : public System, public Stateful {
   }
 
  private:
+  bool in_window(std::int64_t step) const {
+    const std::int64_t phase = step % every_;
+    return phase == 0 || phase > every_ - window_;
+  }
+
   std::uint32_t grid_cell(const Vec<D>& x) const {
     std::uint32_t index = 0;
     for (int a = D - 1; a >= 0; --a) {

@@ -25,6 +25,7 @@
 #include "engine/units.hpp"
 #include "engine/world.hpp"
 #include "systems/srd/srd_cells.hpp"
+#include "systems/srd/srd_step_sums.hpp"
 
 namespace granflow::srd {
 
@@ -117,13 +118,24 @@ class SrdProfileSampler : public System {
   SrdProfileSampler(int axis, int flow, std::shared_ptr<ProfileSums> sums) : axis_(axis), flow_(flow), sums_(std::move(sums)) {}
 
   std::string name() const override { return "sample_srd_profiles"; }
-  Access access() const override { return Access{}.reads<Position<D>, Velocity<D>>().template writes<ProfileSums>(); }
+  Access access() const override {
+    return Access{}.reads<Position<D>, Velocity<D>, Clock>().template writes<ProfileSums, SrdStepSums<D>>();
+  }
+  bool reads_device_state(const World& world) const override { return !on_device(world); }
 
   void run(World& world) override {
+    if (on_device(world)) {
+      sums_->add(world.resource<SrdStepSums<D>>().layers[request_]);
+      return;
+    }
+    const int layers = sums_->layers();
+    if (world.has_resource<SrdStepSums<D>>()) {  // from the next step on, the device step sums
+      request_ = world.resource<SrdStepSums<D>>().ask({axis_, flow_, layers});
+      asked_ = true;
+    }
     const auto& x = world.component<Position<D>>();
     const auto& v = world.component<Velocity<D>>();
     const std::size_t w = sums_->width();
-    const int layers = sums_->layers();
     std::vector<double> step(static_cast<std::size_t>(layers) * w, 0.0);
     // Serial: a fixed order, so the sums do not depend on the thread count.
     for (std::size_t i = 0; i < world.size(); ++i) {
@@ -138,8 +150,15 @@ class SrdProfileSampler : public System {
   }
 
  private:
+  bool on_device(const World& world) const {
+    return asked_ && world.has_resource<SrdStepSums<D>>() &&
+           world.resource<SrdStepSums<D>>().has_layers(request_, world.resource<Clock>().step);
+  }
+
   int axis_, flow_;
   std::shared_ptr<ProfileSums> sums_;
+  bool asked_ = false;
+  std::size_t request_ = 0;
 };
 
 template <int D>

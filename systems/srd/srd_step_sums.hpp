@@ -1,0 +1,54 @@
+#pragma once
+// Sums over the particles for observers that sample every step (profiles,
+// shear stress), computed where the particles live when the SRD step runs on
+// a device (srd.device = "cuda" or "thrust_host"), so that the state is not
+// copied back every step. The device step puts this resource into the World.
+// A sampler asks for its sums the first time it runs (from the host state,
+// copied back that once); from the next step on the device step fills them
+// at the end of every step, and the sampler reads them instead of the
+// particles. Without a device step there is no such resource and samplers
+// read the particles, as always.
+
+#include <cstdint>
+#include <vector>
+
+namespace granflow::srd {
+
+struct LayerSumsRequest {
+  int axis = 0;
+  int flow = 0;
+  int layers = 1;
+  bool operator==(const LayerSumsRequest&) const = default;
+};
+
+template <int D>
+struct SrdStepSums {
+  static constexpr const char* key = "srd_step_sums";
+
+  // What samplers asked for.
+  std::vector<LayerSumsRequest> layer_requests;
+  bool stress_requested = false;
+
+  // The step the sums are of (-1: none yet).
+  std::int64_t step = -1;
+  // Per request, layers x (3 + D): particles, sum of v[flow], of |v|^2 and of each v_a.
+  std::vector<std::vector<double>> layers;
+  // Sums of vx vy, vy (y - L_y / 2) and vy^2 (per unit mass), and of the
+  // cells' collisional transfer.
+  double stress[3] = {0, 0, 0};
+  double transfer = 0.0;
+
+  // The index of a layer request, registered if new.
+  std::size_t ask(const LayerSumsRequest& request) {
+    for (std::size_t k = 0; k < layer_requests.size(); ++k)
+      if (layer_requests[k] == request) return k;
+    layer_requests.push_back(request);
+    return layer_requests.size() - 1;
+  }
+  bool current(std::int64_t clock_step) const { return step == clock_step; }
+  bool has_layers(std::size_t index, std::int64_t clock_step) const {
+    return current(clock_step) && index < layers.size();
+  }
+};
+
+}  // namespace granflow::srd
