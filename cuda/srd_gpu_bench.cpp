@@ -1,4 +1,4 @@
-// GPU benchmark of the SRD step (cuda/srd_device.cuh): particle-steps per
+// GPU benchmark of the SRD step (device/srd_device.hpp): particle-steps per
 // second for a 3D periodic fluid of n0 = 10 particles per cell at kT = 1,
 // alpha = 130 deg, dt = 0.1 (the LAMMPS workload's mean free path is
 // smaller; this one moves particles a tenth of a cell per step), with the
@@ -51,16 +51,18 @@ double copy_bandwidth() {
 }
 
 // Bytes a periodic step moves per particle: streaming (x, v read and
-// written, the cell written), the radix sort (a histogram read of the keys,
-// then per 8-bit digit pass keys and values read and written), the bounds
-// (the sorted keys), the reduction (order and velocity), the collision
-// (velocity read and written, the cell), the reordering's gathers once per
-// `reorder` steps; per cell (shared by n0 particles) its bounds, sums,
-// matrix and mean written and read.
-double bytes_per_particle_step(int sort_bits, double n0, double reorder) {
-  const double passes = std::ceil(sort_bits / 8.0);
-  const double particle = (48 + 48 + 4) + (4 + passes * 16) + 4 + (4 + 24) + (24 + 24 + 4) + (48 + 48 + 4 + 4 + 4) / reorder;
-  const double cell = (8 + 8) + (4 + 8 + 24 + 8) + (4 + 8 + 72) + (72 + 24);
+// written, the cell and the reflection count written), the sort (the cells
+// copied to the keys, the order written as 0..n-1, then per 8-bit digit of
+// the 32-bit keys: keys and values read and written), the bounds (the sorted
+// keys), the reduction (order and velocity), the collision (velocity read
+// and written, the cell), the reflections summed, the reordering's gathers
+// once per `reorder` steps; per cell (shared by n0 particles) its bounds,
+// sums, matrix, clamp flag and mean written and read.
+double bytes_per_particle_step(double n0, double reorder) {
+  const double passes = 4;
+  const double particle = (48 + 48 + 4 + 8) + (8 + 4 + passes * 16) + 4 + (4 + 24) + (24 + 24 + 4) + 8 +
+                          (48 + 48 + 4 + 4 + 4) / reorder;
+  const double cell = (8 + 8) + (4 + 8 + 24 + 8) + (4 + 8 + 72 + 16) + (72 + 24);
   return particle + cell / n0;
 }
 
@@ -123,9 +125,7 @@ int main(int argc, char** argv) {
     run(21, steps);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double rate = static_cast<double>(n) * static_cast<double>(steps) / seconds;
-    int bits = 1;
-    while (bits < 32 && (std::uint64_t{1} << bits) < cells) ++bits;
-    const double bytes = bytes_per_particle_step(bits, n0, reorder);
+    const double bytes = bytes_per_particle_step(n0, reorder);
     fmt::print("{:>12.3g} {:>10} {:>16.3g} {:>14.0f} {:>12.0f} {:>9.0f}%\n", static_cast<double>(n), cells, rate, bytes,
                rate * bytes / 1e9, bandwidth > 0 ? 100.0 * rate * bytes / bandwidth : 0.0);
     for (const auto& e : device.profile())
