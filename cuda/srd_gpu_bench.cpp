@@ -1,4 +1,4 @@
-// GPU benchmark of the SRD step (device/srd_device.hpp): particle-steps per
+// GPU benchmark of the SRD step (systems/srd/srd_device.hpp): particle-steps per
 // second for a 3D periodic fluid of n0 = 10 particles per cell at kT = 1,
 // alpha = 130 deg, dt = 0.1 (the LAMMPS workload's mean free path is
 // smaller; this one moves particles a tenth of a cell per step), with the
@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "device/srd_device.hpp"
+#include "systems/srd/srd_device.hpp"
 #include "engine/rng.hpp"
 #include "engine/stream_ids.hpp"
 #include "systems/srd/grid_shift.hpp"

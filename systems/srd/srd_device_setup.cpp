@@ -1,5 +1,5 @@
 // srd.device = "cuda" or "thrust_host": the device step where this build
-// has that back end (GRANFLOW_HAVE_DEVICE_STEP: device/srd_device.cpp built
+// has that back end (GRANFLOW_HAVE_DEVICE_STEP: systems/srd/srd_device.cpp built
 // as CUDA, or for Thrust's host back end), else the error that says so. Kept
 // apart from the scenarios so that only this file is compiled differently.
 

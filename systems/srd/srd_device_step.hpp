@@ -3,7 +3,7 @@
 // an NVIDIA GPU, "thrust_host" on Thrust's oneTBB host back end): one system
 // in place of streaming, grid shift, binning, reduction, rotation and
 // thermostat, with the particle columns resident in the back end's memory
-// (device/srd_device.hpp). The host computes what the CPU systems compute
+// (systems/srd/srd_device.hpp). The host computes what the CPU systems compute
 // from the clock alone (the step number, the grid shift, the Lees-Edwards
 // state) and copies the state back only when observers or a checkpoint
 // read it (synchronise_host): the particles and this step's cell data, in
@@ -23,7 +23,7 @@
 #include "components/clock.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
-#include "device/srd_device.hpp"
+#include "systems/srd/srd_device.hpp"
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"

@@ -27,7 +27,7 @@
 #include "components/clock.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
-#include "device/srd_device.hpp"
+#include "systems/srd/srd_device.hpp"
 #include "engine/rng.hpp"
 #include "engine/stream_ids.hpp"
 #include "engine/world.hpp"

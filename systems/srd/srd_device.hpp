@@ -1,6 +1,6 @@
 #pragma once
 // The SRD step with the particle columns resident in a Thrust back end's
-// memory: one source (device/srd_device.cpp) that nvcc compiles for an
+// memory: one source (systems/srd/srd_device.cpp) that nvcc compiles for an
 // NVIDIA GPU (srd.device = "cuda") and g++ compiles for Thrust's oneTBB host
 // back end (srd.device = "thrust_host"), so that the step's orchestration
 // runs in every build and is tested on the CPU before any GPU sees it.

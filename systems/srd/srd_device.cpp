@@ -1,10 +1,10 @@
-// The SRD step over Thrust's algorithms (device/srd_device.hpp): compiled by
+// The SRD step over Thrust's algorithms (systems/srd/srd_device.hpp): compiled by
 // nvcc as CUDA in builds with GRANFLOW_CUDA, by g++ with Thrust's oneTBB
 // back end (THRUST_DEVICE_SYSTEM_TBB) otherwise. Each stage is a functor
 // applied by thrust::for_each over particle or cell indices, the sort is
 // thrust::stable_sort_by_key; no hand-written kernels.
 
-#include "device/srd_device.hpp"
+#include "systems/srd/srd_device.hpp"
 
 #include <thrust/copy.h>
 #include <thrust/device_vector.h>
