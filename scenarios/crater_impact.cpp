@@ -2,7 +2,7 @@
 // at packing fraction bed.packing_fraction, at rest; a projectile of
 // mass_ratio m0 and radius_ratio r0 starts at (x, y) moving straight down.
 //
-// The bed is built as a melted lattice (systems/initial/melted_lattice.hpp):
+// The bed is built as a melted lattice (systems/edmd/melted_lattice.hpp):
 // random sequential addition jams at 0.547 in 2D and takes very long near
 // 0.5, so disks start on a triangular lattice with random vacancies and an
 // elastic run of bed.melt_collisions collisions per particle inside the bed
@@ -38,7 +38,7 @@
 #include "engine/scenario.hpp"
 #include "systems/edmd/event_driven_run.hpp"
 #include "systems/edmd/gas_setup.hpp"
-#include "systems/initial/melted_lattice.hpp"
+#include "systems/edmd/melted_lattice.hpp"
 #include "systems/observables/collisions_per_particle.hpp"
 #include "systems/observables/crater.hpp"
 #include "systems/observables/kinetic_energy.hpp"

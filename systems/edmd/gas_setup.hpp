@@ -27,7 +27,7 @@
 #include "systems/edmd/elastic_preparation.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 #include "systems/edmd/kinetic_theory.hpp"
-#include "systems/initial/compressed_placement.hpp"
+#include "systems/edmd/compressed_placement.hpp"
 #include "systems/initial/initial_velocities.hpp"
 #include "systems/initial/lattice_placement.hpp"
 #include "systems/initial/random_placement.hpp"
@@ -257,7 +257,7 @@ void build_gas(World& world, const Config& config, std::uint64_t seed,
     if (on_lattice) melt_lattice<D>(world, gas, bragg_vector, preparation);
     // Compression leaves many pairs just touching; at packing fraction 0.5
     // the collision rate settles to the fluid's within 2 % after about 80
-    // collisions per particle (tests/systems/initial/compressed_placement_test.cpp).
+    // collisions per particle (tests/systems/edmd/compressed_placement_test.cpp).
     if (compressed) {
       constexpr double relaxation_per_particle = 100.0;
       const double relaxation = std::ceil(relaxation_per_particle * static_cast<double>(count) / 2);

@@ -39,7 +39,7 @@ class SrdCellReduction : public System {
  public:
   std::string name() const override { return "srd_cell_reduction"; }
   Access access() const override {
-    return Access{}.reads<Clock, Position<D>, Velocity<D>>().template writes<SrdCells<D>>();
+    return Access{}.reads<Clock, Position<D>, Velocity<D>, Mass>().template writes<SrdCells<D>>();
   }
 
   void run(World& world) override { reduce(world, world.resource<SrdCells<D>>()); }

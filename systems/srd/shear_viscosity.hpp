@@ -160,7 +160,9 @@ class ShearStressSampler : public System {
 
   std::string name() const override { return "sample_srd_stress"; }
   Access access() const override {
-    return Access{}.reads<Position<D>, Velocity<D>, SrdCells<D>, Clock>().template writes<ShearStress, SrdStepSums<D>>();
+    return Access{}
+        .reads<Position<D>, Velocity<D>, Mass, SrdCells<D>, Clock>()
+        .template writes<ShearStress, SrdStepSums<D>>();
   }
   bool reads_device_state(const World& world) const override { return !on_device(world); }
 

@@ -53,7 +53,7 @@ class SrdFieldWriter : public System, public Stateful {
 
   std::string name() const override { return "write_srd_fields"; }
   Access access() const override {
-    return Access{}.reads<Position<D>, Velocity<D>, Clock, SrdCells<D>>().template writes<OutputFile>();
+    return Access{}.reads<Position<D>, Velocity<D>, Mass, Clock, SrdCells<D>>().template writes<OutputFile>();
   }
 
   // Only the steps of a window read the particles.

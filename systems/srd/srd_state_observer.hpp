@@ -35,7 +35,7 @@ class SrdStateObserver : public System {
   std::string name() const override { return "observe_srd_state"; }
   Access access() const override {
     return Access{}
-        .reads<Clock, Velocity<D>, SrdCells<D>>()
+        .reads<Clock, Velocity<D>, Mass, SrdCells<D>>()
         .writes_observable("temperature", unit::energy)
         .writes_observable("granular_temperature", unit::energy)
         .writes_observable("convective_kinetic_energy", unit::energy)

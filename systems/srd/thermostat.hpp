@@ -33,7 +33,7 @@ class SrdThermostat : public System {
       : temperature_(temperature), remove_drift_(remove_drift) {}
 
   std::string name() const override { return "srd_thermostat"; }
-  Access access() const override { return Access{}.writes<Velocity<D>, SrdCells<D>>(); }
+  Access access() const override { return Access{}.reads<Mass>().template writes<Velocity<D>, SrdCells<D>>(); }
 
   void run(World& world) override {
     auto& cells = world.resource<SrdCells<D>>();

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <vector>
 
+#include "components/mass.hpp"
 #include "components/velocity.hpp"
 #include "engine/observable_store.hpp"
 #include "engine/system.hpp"
@@ -33,7 +34,7 @@ class VelocityDistributionObserver : public System {
 
   std::string name() const override { return "observe_velocity_distribution"; }
   Access access() const override {
-    return Access{}.reads<Velocity<D>, SrdCells<D>>().writes_observable("velocity_distribution", unit::none);
+    return Access{}.reads<Velocity<D>, Mass, SrdCells<D>>().writes_observable("velocity_distribution", unit::none);
   }
 
   void run(World& world) override {

@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "cuda/device_query.cuh"
-#include "cuda/host_device_check.cuh"
-#include "cuda/srd_check_step.cuh"
+#include "tests/gpu/host_device_check.cuh"
+#include "tests/gpu/srd_check_step.cuh"
 #include "engine/rng.hpp"
 #include "engine/stream_ids.hpp"
 #include "systems/edmd/collision_rule.hpp"

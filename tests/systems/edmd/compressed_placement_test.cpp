@@ -9,7 +9,7 @@
 
 #include <cmath>
 
-#include "systems/initial/compressed_placement.hpp"
+#include "systems/edmd/compressed_placement.hpp"
 #include "tests/systems/initial/dense_fluid_checks.hpp"
 
 namespace granflow {

@@ -1,12 +1,12 @@
 #pragma once
 // One cell's collision matrix and one particle's SRD step, as the GPU check
 // runs them on the device and its test on the host: the same GRANFLOW_HD
-// functions in the same order (cuda/host_device_check.cuh says what each
+// functions in the same order (tests/gpu/host_device_check.cuh says what each
 // input means).
 
 #include <cstdint>
 
-#include "cuda/host_device_check.cuh"
+#include "tests/gpu/host_device_check.cuh"
 #include "engine/host_device.hpp"
 #include "systems/srd/srd_kernels.hpp"
 #include "systems/srd/srd_walls.hpp"

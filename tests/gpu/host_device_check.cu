@@ -1,4 +1,4 @@
-#include "cuda/host_device_check.cuh"
+#include "tests/gpu/host_device_check.cuh"
 
 #include <cuda_runtime.h>
 
@@ -10,7 +10,7 @@
 #include "systems/edmd/collision_rule.hpp"
 #include "systems/sde/gaussian_noise.hpp"
 #include "systems/sde/sde_model.hpp"
-#include "cuda/srd_check_step.cuh"
+#include "tests/gpu/srd_check_step.cuh"
 
 namespace granflow::cuda {
 
