@@ -10,13 +10,15 @@
 
 #include "engine/sweep_plan.hpp"
 #include "engine/sweep_shards.hpp"
+#include "tests/scratch_directory.hpp"
 
 namespace granflow {
 namespace {
 
 std::string write_sweep(const std::string& name, const std::string& body) {
-  const auto dir = std::filesystem::temp_directory_path() / "granflow_sweep_plan_test";
-  std::filesystem::create_directories(dir);
+  // Per process (two checkouts' tests may run at once), removed at exit.
+  static const ScratchDirectory scratch_directory("granflow_sweep_plan_test_");
+  const auto& dir = scratch_directory.path;
   std::ofstream(dir / name) << "scenario_file = \"" << GRANFLOW_SOURCE_DIR << "/scenarios/haff_cooling.toml\"\n"
                             << body;
   return (dir / name).string();

@@ -21,13 +21,15 @@
 #include "engine/run.hpp"
 #include "engine/runner.hpp"
 #include "tests/scenario_schema.hpp"
+#include "tests/scratch_directory.hpp"
 
 namespace granflow {
 namespace {
 
 std::string scratch(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / "granflow_dem_scenarios";
-  std::filesystem::create_directories(dir);
+  // Per process (two checkouts' tests may run at once), removed at exit.
+  static const ScratchDirectory scratch_directory("granflow_dem_scenarios_");
+  const auto& dir = scratch_directory.path;
   return (dir / (name + ".h5md")).string();
 }
 

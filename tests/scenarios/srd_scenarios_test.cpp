@@ -36,14 +36,14 @@
 #include "systems/observables/maxwell_boltzmann.hpp"
 #include "systems/srd/srd_setup.hpp"
 #include "systems/srd/srd_theory.hpp"
+#include "tests/scratch_directory.hpp"
 
 namespace granflow {
 namespace {
 
 std::string scratch(const std::string& name) {
-  // The long and the CI set may run at once.
-  const std::string variant = std::getenv("GRANFLOW_LONG") ? "long_" : "";
-  return (std::filesystem::temp_directory_path() / ("granflow_srd_" + variant + name + ".h5md")).string();
+  static const ScratchDirectory directory("granflow_srd_scenarios_");
+  return (directory.path / (name + ".h5md")).string();
 }
 
 H5mdReader run(const std::string& scenario, Config config, const std::string& name) {
