@@ -1,6 +1,7 @@
 #include "engine/runner.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
 #include <unistd.h>
@@ -9,6 +10,7 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <mutex>
 #include <optional>
 
@@ -217,11 +219,36 @@ int single_run(const Scenario& scenario, const Config& config, const RunOptions&
   return exit_finished;
 }
 
-EnsembleMember member_record(const Run& run) {
+EnsembleMember member_record(const Run& run, const RunOutcome& outcome) {
   EnsembleMember member;
   member.history = run.recorder().history();
   for (const auto& [name, value] : run.derived_values()) member.derived[name] = value;
+  member.stop_reason = outcome.reason;
   return member;
+}
+
+// Why an ensemble's runs ended: their one reason, or each reason (without
+// the time it came at) with the runs, as ranges, that ended for it.
+std::string ensemble_stop_reason(const std::vector<std::optional<EnsembleMember>>& members) {
+  std::map<std::string, std::vector<std::size_t>> runs_by_reason;
+  for (std::size_t r = 0; r < members.size(); ++r) {
+    const std::string& reason = members[r]->stop_reason;
+    runs_by_reason[reason.substr(0, reason.find(" at t = "))].push_back(r);
+  }
+  if (runs_by_reason.size() == 1 && members.size() == 1) return members.front()->stop_reason;
+  if (runs_by_reason.size() == 1) return runs_by_reason.begin()->first;
+  std::vector<std::string> parts;
+  for (const auto& [reason, runs] : runs_by_reason) {
+    std::vector<std::string> ranges;
+    for (std::size_t k = 0; k < runs.size();) {
+      std::size_t last = k;
+      while (last + 1 < runs.size() && runs[last + 1] == runs[last] + 1) ++last;
+      ranges.push_back(last == k ? std::to_string(runs[k]) : fmt::format("{}-{}", runs[k], runs[last]));
+      k = last + 1;
+    }
+    parts.push_back(fmt::format("{} {}: {}", runs.size() == 1 ? "run" : "runs", fmt::join(ranges, ", "), reason));
+  }
+  return fmt::format("{}", fmt::join(parts, "; "));
 }
 
 // Runs every member not yet finished, in parallel: members are independent
@@ -274,6 +301,8 @@ int ensemble_run(const Scenario& scenario, const Config& config, const RunOption
         member.history = load_history(state_under(contents.state, prefix + "/history"));
         for (const auto& [name, value] : state_under(contents.state, prefix + "/derived"))
           if (value.size() == 1) member.derived[name] = value[0];
+        if (const auto reason = contents.state.find(prefix + "/stop_reason"); reason != contents.state.end())
+          member.stop_reason = decode_texts(reason->second).at(0);
         finished[r] = std::move(member);
       } else {
         in_progress[r] = state_under(contents.state, prefix + "/run");
@@ -296,6 +325,7 @@ int ensemble_run(const Scenario& scenario, const Config& config, const RunOption
         state[prefix + "/done"] = {1.0};
         put_state_under(state, prefix + "/history", save_history(finished[r]->history));
         for (const auto& [name, value] : finished[r]->derived) state[prefix + "/derived/" + name] = {value};
+        state[prefix + "/stop_reason"] = encode_texts({finished[r]->stop_reason});
       } else if (!in_progress[r].empty()) {
         put_state_under(state, prefix + "/run", in_progress[r]);
       }
@@ -325,7 +355,7 @@ int ensemble_run(const Scenario& scenario, const Config& config, const RunOption
         return;
       }
       if (outcome.kind == RunOutcome::Kind::failed && (!failure || r < failure->first)) failure.emplace(r, outcome.reason);
-      finished[r] = member_record(run);
+      finished[r] = member_record(run, outcome);
       fraction[r] = 1.0;
       show();
       if (std::any_of(finished.begin(), finished.end(), [](const auto& m) { return !m; })) save();
@@ -351,6 +381,7 @@ int ensemble_run(const Scenario& scenario, const Config& config, const RunOption
     std::filesystem::remove(checkpoint);
     return exit_physics_failed;
   }
+  file.write_attribute("/observables", "stop_reason", ensemble_stop_reason(finished));
   EnsembleResults results{config, {}};
   for (auto& member : finished) results.members.push_back(std::move(*member));
   scenario.reduce(results, file);
@@ -376,7 +407,7 @@ EnsembleResults simulate_ensemble(const Scenario& scenario, const Config& config
               [&](std::size_t r, Run& run, const RunOutcome& outcome) {
                 std::lock_guard hold(lock);
                 if (outcome.kind == RunOutcome::Kind::failed) failure = outcome.reason;
-                finished[r] = member_record(run);
+                finished[r] = member_record(run, outcome);
               }, {});
   if (failure) throw PhysicsFailure(*failure);
   EnsembleResults results{config, {}};

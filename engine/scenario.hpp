@@ -28,6 +28,7 @@ class H5mdFile;
 struct EnsembleMember {
   ObservableHistory history;
   std::map<std::string, double> derived;
+  std::string stop_reason;  // why the run ended
 };
 struct EnsembleResults {
   const Config& config;

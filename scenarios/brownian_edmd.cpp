@@ -90,7 +90,6 @@ void write(const EdmdMsdResult& r, H5mdFile& file) {
   file.write_attribute("/parameters/derived", "gamma0", r.enskog.gamma0);
   file.write_attribute("/parameters/derived", "haff_tau0", r.enskog.tau0);
   file.write_attribute("/observables", "long_time_slope", r.long_time_slope);
-  file.write_attribute("/observables", "stop_reason", "reached run.t_stop");
   spdlog::info("MSD({}) = {:.5g} +- {:.2g} (theory {:.5g}); slope over the last decade {:.4f} = {:.4f} x 6 D0 "
                "(Enskog)",
                r.time.back(), r.msd.back(), r.msd_stderr.back(), r.msd_theory.back(), r.long_time_slope,

@@ -73,6 +73,7 @@ void build(Run& run) {
   run.observe<ScatteringAngleObserver>(std::make_shared<AtEnd>());
   // Long enough to pass the target, too short to reach the far wall.
   run.stop_at_time((1.0 - r2 - start_x) / speed * 0.99);
+  run.finished_reason("the projectile passed the target");
 }
 
 std::vector<ScatteringPoint> points_of(const EnsembleResults& results) {
@@ -111,7 +112,6 @@ void reduce(const EnsembleResults& results, H5mdFile& file) {
   file.write_result("analytic_curve_impact_parameter_ratio", fine_ratio, unit::none);
   file.write_result("analytic_curve_scattering_angle", fine_angle, unit::angle);
   file.write_attribute("/observables", "largest_deviation_rad", worst);
-  file.write_attribute("/observables", "stop_reason", "scan complete");
   spdlog::info("{} impact parameters, largest deviation from the analytic angle {:.3g} rad", ratio.size(), worst);
 }
 

@@ -168,7 +168,6 @@ void write(const Config& config, const SdeMsdResult& result, H5mdFile& file) {
     if (result.msd_stderr[k] > 0)
       worst = std::max(worst, std::abs(result.msd[k] - result.msd_theory[k]) / result.msd_stderr[k]);
   file.write_attribute("/observables", "largest_deviation_in_standard_errors", worst);
-  file.write_attribute("/observables", "stop_reason", "reached run.t_stop");
   spdlog::info("MSD({}) = {:.5g} +- {:.2g} (theory {:.5g}); largest deviation from theory {:.2f} standard errors",
                result.time.back(), result.msd.back(), result.msd_stderr.back(), result.msd_theory.back(), worst);
 }
