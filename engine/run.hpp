@@ -179,4 +179,14 @@ class Run {
   FrameCounts frames_before_end_;  // of the file's series, when the final round began
 };
 
+// A scenario's build for 2D and 3D runs, picked by system.dimension:
+// `.build = build_by_dimension<build<2>, build<3>>`.
+template <void (*Build2)(Run&), void (*Build3)(Run&)>
+void build_by_dimension(Run& run) {
+  if (run.config().integer("system.dimension") == 2)
+    Build2(run);
+  else
+    Build3(run);
+}
+
 }  // namespace granflow

@@ -88,7 +88,7 @@ GRANFLOW_REGISTER_SCENARIO(gsrd_cooling, Scenario{
     s.integer("output.points_per_decade", 20, 1, 1000, "outputs per decade of steps");
     s.integer("output.distribution_bins", 40, 2, 100000, "bins of velocity_distribution in c = |v - <v>| / v_T, over [0, 4)");
   },
-  .build = [](Run& run) { run.config().integer("system.dimension") == 2 ? build<2>(run) : build<3>(run); },
+  .build = build_by_dimension<build<2>, build<3>>,
   .adopt = adopt_stored_state,
 })
 

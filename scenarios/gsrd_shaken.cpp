@@ -155,7 +155,7 @@ GRANFLOW_REGISTER_SCENARIO(gsrd_shaken, Scenario{
         .integer("shaken.warmup_steps", 1000, 0, 1000000000, "steps before the profiles are sampled");
     s.unit("shaking.amplitude", unit::length).unit("shaking.frequency", unit::rate).unit("shaking.gravity", unit::acceleration);
   },
-  .build = [](Run& run) { run.config().integer("system.dimension") == 2 ? build<2>(run) : build<3>(run); },
+  .build = build_by_dimension<build<2>, build<3>>,
   .adopt = adopt_stored_state,
 })
 

@@ -75,7 +75,7 @@ GRANFLOW_REGISTER_SCENARIO(haff_cooling, Scenario{
     declare_output_time_keys(s, 0.01, 20);
     declare_frame_keys(s, "final", {"none", "final", "all"});
   },
-  .build = [](Run& run) { run.config().integer("system.dimension") == 2 ? build<2>(run) : build<3>(run); },
+  .build = build_by_dimension<build<2>, build<3>>,
   .adopt = adopt_stored_state,
 })
 

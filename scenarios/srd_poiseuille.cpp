@@ -159,7 +159,7 @@ GRANFLOW_REGISTER_SCENARIO(srd_poiseuille, Scenario{
     s.integer("output.every_steps", 250, 1, 1000000000, "steps between outputs (profile blocks)")
         .integer("poiseuille.warmup_steps", 1000, 0, 1000000000, "steps before the profiles are sampled");
   },
-  .build = [](Run& run) { run.config().integer("system.dimension") == 2 ? build<2>(run) : build<3>(run); },
+  .build = build_by_dimension<build<2>, build<3>>,
   .adopt = adopt_stored_state,
 })
 

@@ -92,7 +92,7 @@ GRANFLOW_REGISTER_SCENARIO(srd_viscosity, Scenario{
         .integer("viscosity.warmup_steps", 2000, 0, 1000000000, "steps before the stress is sampled")
         .integer("viscosity.block_steps", 200, 1, 1000000000, "steps per block of the standard errors");
   },
-  .build = [](Run& run) { run.config().integer("system.dimension") == 2 ? build<2>(run) : build<3>(run); },
+  .build = build_by_dimension<build<2>, build<3>>,
   .adopt = adopt_stored_state,
 })
 
