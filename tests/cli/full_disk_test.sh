@@ -33,8 +33,9 @@ output = "$work/sweep"
 TOML
 status=0
 (trap '' XFSZ; ulimit -f 100; exec "$granflow" sweep "$work/sweep.toml" -j 2 -q) 2> "$work/sweep.log" || status=$?
-if [[ $status -ne 3 && $status -ne 1 ]]; then
-  echo "FAIL: sweep on a full disk exited $status:"; cat "$work/sweep.log"; failures=$((failures + 1))
+if [[ $status -ne 3 ]] || ! grep -q "HDF5 error: append to" "$work/sweep.log"; then
+  echo "FAIL: sweep on a full disk exited $status (expected 3, every run failed, naming the write):"
+  cat "$work/sweep.log"; failures=$((failures + 1))
 else
   echo "ok: sweep on a full disk exited $status"
 fi
