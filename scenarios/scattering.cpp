@@ -17,6 +17,7 @@
 #include "engine/scenario.hpp"
 #include "engine/units.hpp"
 #include "systems/edmd/event_driven_run.hpp"
+#include "systems/observables/scattering_angle.hpp"
 
 namespace granflow::scenarios {
 
@@ -30,17 +31,6 @@ double analytic_scattering_angle(double ratio, double m1, double m2, double rest
 }
 
 namespace {
-
-// Lab-frame angle of the small particle's velocity (storage index 1: the gas keeps the order).
-class ScatteringAngleObserver : public System {
- public:
-  std::string name() const override { return "observe_scattering_angle"; }
-  Access access() const override { return Access{}.reads<Velocity<2>>().writes_observable("scattering_angle", unit::angle); }
-  void run(World& world) override {
-    const Vec<2> after = world.component<Velocity<2>>()[1];
-    world.resource<ObservableStore>().set("scattering_angle", std::atan2(std::abs(after.y()), after.x()));
-  }
-};
 
 double impact_ratio(const Config& c, std::size_t member) {
   return c.real("scan.max_ratio") * static_cast<double>(member) / static_cast<double>(c.integer("scan.points") - 1);

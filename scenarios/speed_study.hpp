@@ -26,6 +26,7 @@
 #include "systems/observables/particle_frames.hpp"
 #include "systems/observables/species_kinetic_energy.hpp"
 #include "systems/observables/speed_samples.hpp"
+#include "systems/observables/speed_snapshot_observer.hpp"
 
 namespace granflow::scenarios {
 
@@ -57,35 +58,6 @@ inline void declare_speed_study_keys(ConfigSchema& s, const SamplingDefaults& d)
       .real("output.interval", d.output_interval, 0.0, inf, "time between outputs of the kinetic energies", true);
   declare_frame_keys(s, "final", {"none", "final"});
 }
-
-// Speeds of every particle whenever its trigger fires, kept across checkpoints.
-template <int D>
-class SpeedSnapshotObserver : public System, public Stateful {
- public:
-  explicit SpeedSnapshotObserver(std::size_t species) : samples_(species) {}
-  std::string name() const override { return "observe_speed_snapshot"; }
-  Access access() const override { return Access{}.reads<Velocity<D>, Species>().template writes<SpeedSnapshotObserver<D>>(); }
-  void run(World& world) override {
-    samples_.add<D>(world);
-    ++taken_;
-  }
-  static constexpr const char* key = "speed_snapshots";
-  const SpeedSamples& samples() const { return samples_; }
-  std::size_t taken() const { return taken_; }
-  StateMap save_state() const override {
-    StateMap out{{"taken", {static_cast<double>(taken_)}}};
-    for (std::size_t s = 0; s < samples_.species_count(); ++s) out[std::to_string(s)] = samples_.speeds(s);
-    return out;
-  }
-  void restore_state(const StateMap& state) override {
-    taken_ = static_cast<std::size_t>(state.at("taken").at(0));
-    for (std::size_t s = 0; s < samples_.species_count(); ++s) samples_.set_speeds(s, state.at(std::to_string(s)));
-  }
-
- private:
-  SpeedSamples samples_;
-  std::size_t taken_ = 0;
-};
 
 inline double largest(const std::vector<double>& values) {
   return values.empty() ? 0.0 : *std::max_element(values.begin(), values.end());

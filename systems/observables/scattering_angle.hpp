@@ -1,0 +1,31 @@
+#pragma once
+// The lab-frame angle of the small particle's velocity after a two-particle
+// collision (observable `scattering_angle`): the projectile is storage index
+// 1, as the event-driven gas keeps the order of a two-particle world.
+
+#include <cmath>
+#include <string>
+
+#include "components/velocity.hpp"
+#include "engine/observable_store.hpp"
+#include "engine/system.hpp"
+#include "engine/system_catalogue.hpp"
+#include "engine/units.hpp"
+#include "engine/world.hpp"
+
+namespace granflow {
+
+inline const SystemDescription observe_scattering_angle_description{
+    "observe_scattering_angle", "the projectile's lab-frame angle after a two-particle collision"};
+
+class ScatteringAngleObserver : public System {
+ public:
+  std::string name() const override { return "observe_scattering_angle"; }
+  Access access() const override { return Access{}.reads<Velocity<2>>().writes_observable("scattering_angle", unit::angle); }
+  void run(World& world) override {
+    const Vec<2> after = world.component<Velocity<2>>()[1];
+    world.resource<ObservableStore>().set("scattering_angle", std::atan2(std::abs(after.y()), after.x()));
+  }
+};
+
+}  // namespace granflow
