@@ -51,17 +51,16 @@ double copy_bandwidth() {
 }
 
 // Bytes a periodic step moves per particle: streaming (x, v read and
-// written, the cell and the reflection count written), the sort (the cells
-// copied to the keys, the order written as 0..n-1, then per 8-bit digit of
-// the 32-bit keys: keys and values read and written), the bounds (the sorted
-// keys), the reduction (order and velocity), the collision (velocity read
-// and written, the cell), the reflections summed, the reordering's gathers
-// once per `reorder` steps; per cell (shared by n0 particles) its bounds,
-// sums, matrix, clamp flag and mean written and read.
+// written, the cell written), the sort (the cells copied to the keys, the
+// order written as 0..n-1, then per 8-bit digit of the 32-bit keys: keys and
+// values read and written), the bounds (the sorted keys), the reduction
+// (order and velocity), the collision (velocity read and written, the cell),
+// the reordering's gathers once per `reorder` steps; per cell (shared by n0
+// particles) its bounds, sums, matrix, clamp flag and mean written and read.
 double bytes_per_particle_step(double n0, double reorder) {
   const double passes = 4;
-  const double particle = (48 + 48 + 4 + 8) + (8 + 4 + passes * 16) + 4 + (4 + 24) + (24 + 24 + 4) + 8 +
-                          (48 + 48 + 4 + 4 + 4) / reorder;
+  const double particle =
+      (48 + 48 + 4) + (8 + 4 + passes * 16) + 4 + (4 + 24) + (24 + 24 + 4) + (48 + 48 + 4 + 4 + 4) / reorder;
   const double cell = (8 + 8) + (4 + 8 + 24 + 8) + (4 + 8 + 72 + 16) + (72 + 24);
   return particle + cell / n0;
 }

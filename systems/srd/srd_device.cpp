@@ -88,7 +88,7 @@ struct Stream {
   std::uint32_t* cell;
   std::int8_t* image;
   double* work;
-  double* reflections;  // per particle, summed afterwards
+  std::uint8_t* hits;  // per particle, its wall reflections (with walls only), summed afterwards
   GRANFLOW_HD void operator()(std::size_t i) const {
     const SrdDeviceSetup& s = k.setup;
     double* xi = x + D * i;
@@ -100,17 +100,16 @@ struct Stream {
     force.to = s.slab_to;
     if (s.wall_count == 0 && !force.any()) {
       srd::stream_particle<D>(xi, vi, s.dt, s.length, k.step.shear);
-      reflections[i] = 0.0;
     } else {
       const double none[D] = {};
       const double* g = force.acts_at(xi) ? force.acceleration : none;
       double gained = 0.0;
-      const int hits = srd::stream_between_walls<D>(xi, vi, g, k.step.start_time, s.dt, s.walls, s.wall_count,
-                                                    work ? &gained : nullptr);
+      const int reflections = srd::stream_between_walls<D>(xi, vi, g, k.step.start_time, s.dt, s.walls,
+                                                           s.wall_count, work ? &gained : nullptr);
       for (int a = 0; a < D; ++a)
         if (!(s.bounded & (1u << a))) xi[a] = srd::wrapped(xi[a], s.length[a]);
       if (work) work[i] = gained;
-      reflections[i] = static_cast<double>(hits);
+      if (hits) hits[i] = static_cast<std::uint8_t>(reflections);
     }
     std::int32_t grid[D];
     for (int a = 0; a < D; ++a) grid[a] = s.cells[a];
@@ -342,6 +341,25 @@ struct BlockSum {
   }
 };
 
+// Per block of particles: its wall reflections, and its particles that
+// needed more than srd::most_reflections.
+struct HitBlocks {
+  const std::uint8_t* hits;
+  std::size_t n;
+  double* rows;  // blocks x 2
+  GRANFLOW_HD void operator()(std::size_t b) const {
+    double reflections = 0.0, stranded = 0.0;
+    const std::size_t from = b * block_size;
+    const std::size_t to = from + block_size < n ? from + block_size : n;
+    for (std::size_t i = from; i < to; ++i) {
+      reflections += hits[i];
+      stranded += hits[i] == srd::most_reflections ? 1.0 : 0.0;
+    }
+    rows[2 * b] = reflections;
+    rows[2 * b + 1] = stranded;
+  }
+};
+
 // Per block of particles, per layer across `axis`: particles, sum of
 // v[flow], of |v|^2 and of each v_a (width 3 + D).
 template <int D>
@@ -504,7 +522,8 @@ struct SrdDevice::Impl {
   Column<std::int8_t> image, image_spare;
   Column<std::uint32_t> count, ghosts;
   Column<double> mass, velocity, theta, matrices, moment, transfer;
-  Column<double> work, plain, ghosted, terms, occupied, reflections, clamped;
+  Column<double> work, plain, ghosted, terms, occupied, clamped;
+  Column<std::uint8_t> hits;
   Column<double> partial;  // block sums
   std::vector<double> partial_host;
   StageTimer timer;
@@ -572,7 +591,7 @@ SrdDevice::SrdDevice(const SrdDeviceSetup& setup, std::size_t particles) : impl_
     d.cell.resize(n);
     d.sorted_cell.resize(n);
     d.order.resize(n);
-    d.reflections.resize(n);
+    if (setup.wall_count > 0) d.hits.resize(n);
     d.start.resize(cells);
     d.end.resize(cells);
     d.count.resize(cells);
@@ -632,7 +651,7 @@ SrdDeviceReport SrdDevice::Impl::step(const SrdDeviceStep& in, const SrdSumReque
   std::uint32_t* ghost_counts = raw(ghosts);
 
   timer.begin(stream_stage);
-  for_each_index(n, Stream<D>{k, raw(x), raw(v), raw(cell), img, raw(work), raw(reflections)});
+  for_each_index(n, Stream<D>{k, raw(x), raw(v), raw(cell), img, raw(work), raw(hits)});
   timer.finish(stream_stage);
 
   // The stable sort keeps particles of a cell in storage order, as the
@@ -706,7 +725,14 @@ SrdDeviceReport SrdDevice::Impl::step(const SrdDeviceStep& in, const SrdSumReque
     observer_sums<D>(sums, report);
     timer.finish(sums_stage);
   }
-  report.reflections = static_cast<std::uint64_t>(sum(raw(reflections), n));
+  if (!hits.empty()) {
+    const std::size_t blocks = (n + block_size - 1) / block_size;
+    if (partial.size() < 2 * blocks) partial.resize(2 * blocks);
+    for_each_index(blocks, HitBlocks{raw(hits), n, raw(partial)});
+    const auto counts = sum_rows(blocks, 2);
+    report.reflections = static_cast<std::uint64_t>(counts[0]);
+    report.stranded = static_cast<std::uint64_t>(counts[1]);
+  }
   report.clamped_cells = static_cast<std::uint64_t>(sum(raw(clamped), cell_count));
 #if defined(__CUDACC__)
   check(cudaDeviceSynchronize(), "SRD step");
@@ -746,12 +772,11 @@ std::size_t SrdDevice::bytes() const {
   const Impl& d = *impl_;
   std::size_t total = 0;
   for (const auto* b : {&d.x, &d.v, &d.x_spare, &d.v_spare, &d.mass, &d.velocity, &d.theta, &d.matrices, &d.moment,
-                        &d.transfer, &d.work, &d.plain, &d.ghosted, &d.terms, &d.occupied, &d.reflections, &d.clamped,
-                        &d.partial})
+                        &d.transfer, &d.work, &d.plain, &d.ghosted, &d.terms, &d.occupied, &d.clamped, &d.partial})
     total += b->size() * sizeof(double);
   for (const auto* b : {&d.cell, &d.sorted_cell, &d.order, &d.start, &d.end, &d.count, &d.ghosts})
     total += b->size() * sizeof(std::uint32_t);
-  return total + d.image.size() + d.image_spare.size();
+  return total + d.image.size() + d.image_spare.size() + d.hits.size();
 }
 
 }  // namespace granflow::device

@@ -90,6 +90,7 @@ struct SrdSumRequests {
 
 struct SrdDeviceReport {
   std::uint64_t reflections = 0;
+  std::uint64_t stranded = 0;  // particles that needed more than srd::most_reflections
   std::uint64_t clamped_cells = 0;
   double wall_work = 0.0;
   double collision_energy = 0.0;

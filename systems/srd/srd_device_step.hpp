@@ -24,6 +24,7 @@
 #include "components/position.hpp"
 #include "components/velocity.hpp"
 #include "systems/srd/srd_device.hpp"
+#include "engine/run_control.hpp"
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
@@ -90,7 +91,7 @@ class SrdDeviceStep : public System {
 
   std::string name() const override { return "srd_device_step"; }
   Access access() const override {
-    return Access{}.writes<Position<D>, Velocity<D>, Clock, SrdCells<D>, SrdStepSums<D>>();
+    return Access{}.writes<Position<D>, Velocity<D>, Clock, SrdCells<D>, SrdStepSums<D>, RunControl>();
   }
 
   void run(World& world) override {
@@ -125,6 +126,8 @@ class SrdDeviceStep : public System {
       sums->transfer = report.transfer_sum;
     }
     cells.wall_reflections += report.reflections;
+    if (report.stranded > 0)
+      world.resource<RunControl>().fail(stranded_failure(clock.time, clock.step, report.stranded, p_.dt));
     cells.clamped_cells = report.clamped_cells;
     cells.step_wall_work = report.wall_work;
     cells.step_collision_energy = report.collision_energy;

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "components/clock.hpp"
@@ -29,6 +30,17 @@ namespace granflow::srd {
 
 inline const SystemDescription srd_streaming_description{
     "srd_streaming", "x += v dt in the periodic box, Lees-Edwards shear planes along y (parallel_for)"};
+
+// Why a run stops when particles needed more than most_reflections in one
+// step (the CPU streaming and the device step say it alike).
+inline std::string stranded_failure(double time, std::int64_t step, std::uint64_t stranded, double dt) {
+  return fmt::format(
+      "the SRD streaming failed at t = {:.6g} (step {}): {} particle(s) met the walls more than {} times in one step "
+      "and could not be streamed exactly (their energy would go unbooked). A particle pressed onto a wall by the "
+      "force hops 2 v / g apart, so a slow one hops without end; lower srd.time_step (now {:.4g}) or "
+      "force.acceleration / shaking.gravity",
+      time, step, stranded, most_reflections, dt);
+}
 
 template <int D>
 class SrdStreaming : public System {
@@ -118,14 +130,7 @@ class SrdStreaming : public System {
       cells.wall_reflections += chunk_reflections_[k];
       stranded += chunk_stranded_[k];
     }
-    if (stranded > 0) {
-      world.resource<RunControl>().fail(fmt::format(
-          "the SRD streaming failed at t = {:.6g} (step {}): {} particle(s) met the walls more than {} times in one step "
-          "and could not be streamed exactly (their energy would go unbooked). A particle pressed onto a wall by the "
-          "force hops 2 v / g apart, so a slow one hops without end; lower srd.time_step (now {:.4g}) or "
-          "force.acceleration / shaking.gravity",
-          clock.time, clock.step, stranded, most_reflections, dt_));
-    }
+    if (stranded > 0) world.resource<RunControl>().fail(stranded_failure(clock.time, clock.step, stranded, dt_));
     if (cells.record_energy) {
       double work = 0.0;
       for (double w : chunk_work_) work += w;

@@ -70,5 +70,24 @@ compare srd_poiseuille 1500 10 --set 'system.cells=[20,10]' --set run.steps=2000
 # The fields read the particles in the 10 steps of each window: 5 windows.
 compare gsrd_shaken 300 61 --set 'system.cells=[8,8,16]' --set run.steps=500 --set shaken.warmup_steps=200 \
   --set output.every_steps=50 --set fields.every_steps=100
+# Failed physics stops the device step as it stops the CPU systems: a
+# particle pressed onto the floor by strong gravity needs more than 64
+# reflections in one step; both exit 3 at the same step with the same diagnosis.
+for device in cpu thrust_host; do
+  status=0
+  "$granflow" run gsrd_shaken -q --set 'system.cells=[8,8,12]' --set run.steps=200 --set shaking.gravity=30 \
+    --set shaken.warmup_steps=100 --set srd.device="\"$device\"" -o "$work/fail-$device.h5md" 2> "$work/fail-$device.log" \
+    || status=$?
+  if [[ $status -ne 3 ]] || ! grep -q "met the walls more than 64 times in one step" "$work/fail-$device.log"; then
+    echo "FAIL: gsrd_shaken under gravity 30 on $device exited $status:"; cat "$work/fail-$device.log"
+    failures=$((failures + 1))
+  fi
+done
+if ! diff <(grep -o "failed at t = .*(step [0-9]*)" "$work/fail-cpu.log") \
+          <(grep -o "failed at t = .*(step [0-9]*)" "$work/fail-thrust_host.log") > /dev/null; then
+  echo "FAIL: the device step failed at another step than the CPU systems"; failures=$((failures + 1))
+else
+  echo "ok: both stop with exit 3 $(grep -o "failed at t = .*(step [0-9]*)" "$work/fail-cpu.log")"
+fi
 echo "$failures failure(s)"
 [[ $failures -eq 0 ]]
