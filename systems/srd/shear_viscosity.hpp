@@ -164,31 +164,25 @@ class ShearStressSampler : public System {
         .reads<Position<D>, Velocity<D>, Mass, SrdCells<D>, Clock>()
         .template writes<ShearStress, SrdStepSums<D>>();
   }
-  bool reads_device_state(const World& world) const override { return !on_device(world); }
+  bool reads_device_state(const World& world) const override { return !device_.ready(world); }
 
   void run(World& world) override {
     const auto& cells = world.resource<SrdCells<D>>();
     const std::size_t slabs = static_cast<std::size_t>(cells.cells[1]);
-    if (on_device(world)) {
-      const auto& device = world.resource<SrdStepSums<D>>();
-      const auto& rows = device.layers[request_];
+    if (const auto* device = device_.ready(world)) {
+      const auto& rows = device_.layers(*device);
       const double m0 = cells.particle_mass, n = static_cast<double>(world.size());
       std::vector<double> slab_vx(slabs), slab_count(slabs);
       for (std::size_t k = 0; k < slabs; ++k) {
         slab_count[k] = rows[k * (3 + D)];
         slab_vx[k] = rows[k * (3 + D) + 1];
       }
-      sums_->add(m0 * device.stress[0] / n, m0 * device.stress[1] / n, m0 * device.stress[2] / n, m0, device.transfer,
-                 slab_vx, slab_count);
+      sums_->add(m0 * device->stress[0] / n, m0 * device->stress[1] / n, m0 * device->stress[2] / n, m0,
+                 device->transfer, slab_vx, slab_count);
       return;
     }
     // Particles of one mass (no Mass column): from the next step on, the device step sums.
-    if (world.has_resource<SrdStepSums<D>>() && !world.has_component<Mass>()) {
-      auto& device = world.resource<SrdStepSums<D>>();
-      request_ = device.ask({1, 0, static_cast<int>(slabs)});
-      device.stress_requested = true;
-      asked_ = true;
-    }
+    if (!world.has_component<Mass>()) device_.ask(world, {1, 0, static_cast<int>(slabs)}, true);
     const auto& x = world.component<Position<D>>();
     const auto& v = world.component<Velocity<D>>();
     const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
@@ -211,14 +205,8 @@ class ShearStressSampler : public System {
   }
 
  private:
-  bool on_device(const World& world) const {
-    return asked_ && world.has_resource<SrdStepSums<D>>() &&
-           world.resource<SrdStepSums<D>>().has_layers(request_, world.resource<Clock>().step);
-  }
-
   std::shared_ptr<ShearStress> sums_;
-  bool asked_ = false;
-  std::size_t request_ = 0;
+  StepSumsRequest<D> device_;
 };
 
 template <int D>

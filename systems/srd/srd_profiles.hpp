@@ -121,18 +121,15 @@ class SrdProfileSampler : public System {
   Access access() const override {
     return Access{}.reads<Position<D>, Velocity<D>, Clock>().template writes<ProfileSums, SrdStepSums<D>>();
   }
-  bool reads_device_state(const World& world) const override { return !on_device(world); }
+  bool reads_device_state(const World& world) const override { return !device_.ready(world); }
 
   void run(World& world) override {
-    if (on_device(world)) {
-      sums_->add(world.resource<SrdStepSums<D>>().layers[request_]);
+    if (const auto* sums = device_.ready(world)) {
+      sums_->add(device_.layers(*sums));
       return;
     }
     const int layers = sums_->layers();
-    if (world.has_resource<SrdStepSums<D>>()) {  // from the next step on, the device step sums
-      request_ = world.resource<SrdStepSums<D>>().ask({axis_, flow_, layers});
-      asked_ = true;
-    }
+    device_.ask(world, {axis_, flow_, layers});  // from the next step on, the device step sums
     const auto& x = world.component<Position<D>>();
     const auto& v = world.component<Velocity<D>>();
     const std::size_t w = sums_->width();
@@ -150,15 +147,9 @@ class SrdProfileSampler : public System {
   }
 
  private:
-  bool on_device(const World& world) const {
-    return asked_ && world.has_resource<SrdStepSums<D>>() &&
-           world.resource<SrdStepSums<D>>().has_layers(request_, world.resource<Clock>().step);
-  }
-
   int axis_, flow_;
   std::shared_ptr<ProfileSums> sums_;
-  bool asked_ = false;
-  std::size_t request_ = 0;
+  StepSumsRequest<D> device_;
 };
 
 template <int D>

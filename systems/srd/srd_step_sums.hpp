@@ -12,6 +12,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "components/clock.hpp"
+#include "engine/world.hpp"
+
 namespace granflow::srd {
 
 struct LayerSumsRequest {
@@ -49,6 +52,33 @@ struct SrdStepSums {
   bool has_layers(std::size_t index, std::int64_t clock_step) const {
     return current(clock_step) && index < layers.size();
   }
+};
+
+// A sampler's layer sums from the device step: asked for the first time it
+// samples (where there is a device step), read from the next step on.
+template <int D>
+class StepSumsRequest {
+ public:
+  // Registers `request` (and, with `stress`, the stress sums) where the
+  // World has a device step; nothing otherwise.
+  void ask(World& world, const LayerSumsRequest& request, bool stress = false) {
+    if (asked_ || !world.has_resource<SrdStepSums<D>>()) return;
+    auto& sums = world.resource<SrdStepSums<D>>();
+    index_ = sums.ask(request);
+    if (stress) sums.stress_requested = true;
+    asked_ = true;
+  }
+  // The device step's sums of this step, or null where they are not there.
+  const SrdStepSums<D>* ready(const World& world) const {
+    if (!asked_ || !world.has_resource<SrdStepSums<D>>()) return nullptr;
+    const auto& sums = world.resource<SrdStepSums<D>>();
+    return sums.has_layers(index_, world.resource<Clock>().step) ? &sums : nullptr;
+  }
+  const std::vector<double>& layers(const SrdStepSums<D>& sums) const { return sums.layers[index_]; }
+
+ private:
+  bool asked_ = false;
+  std::size_t index_ = 0;
 };
 
 }  // namespace granflow::srd
