@@ -18,6 +18,10 @@ ParticleFrames ParticleFrames::read(const H5mdReader& reader, const std::string&
                                  path, p));
   ParticleFrames f;
   const auto shape = reader.shape(p + "/position/value");
+  if (shape.size() == 2 || (shape.size() == 3 && shape[2] == 1))
+    throw InputError(fmt::format("'{}' holds the frames of a 1D run: the exports and stored starts take 2D and 3D "
+                                 "runs only (read 1D frames with h5py, {}/position/value)",
+                                 path, p));
   if (shape.size() != 3 || shape[2] < 2 || shape[2] > 3)
     throw InputError(fmt::format("'{}': positions are not frames x N x 2 or frames x N x 3", path));
   f.frames = shape[0];

@@ -153,6 +153,15 @@ if [[ -e "$work/x.h5" || -e "$work/x.h5.partial" ]]; then
   echo "FAIL: a failed diffusion run left $work/x.h5 or its .partial"; failures=$((failures + 1))
 fi
 
+# Frames of a 1D run (an SDE run can be 1D) are refused by every export and
+# by initial.from, saying so.
+"$granflow" run "$(dirname "$scenario")/langevin_msd.toml" --set system.dimension=1 --set system.count=50 \
+  --set run.t_stop=1 --set run.runs=1 --set output.positions=all -q -o "$work/sde1d.h5md"
+for format in xyz gsd xdmf mdanalysis; do
+  expect_error "holds the frames of a 1D run" export "$work/sde1d.h5md" --format "$format" -o "$work/sde1d.out"
+done
+expect_error "holds the frames of a 1D run" run "$scenario" --set initial.from="\"$work/sde1d.h5md\"" -o "$work/x.h5"
+
 # SDE and event-driven diffusion runs: the whole output is the same on 1 and 2 threads.
 scenarios=$(dirname "$scenario")
 for threads in 1 2; do
