@@ -63,4 +63,29 @@ inline void write_string_array_attribute(hid_t object, const std::string& name,
   h5_check(H5Awrite(attribute, type, packed.data()), "write attribute " + name);
 }
 
+// A dataspace of `shape`, wholly selected.
+inline H5Handle simple_space(const std::vector<hsize_t>& shape, const std::string& what) {
+  return H5Handle(H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr), H5Sclose,
+                  "create space of " + what);
+}
+
+// Dataset `name` (created with its parent groups) of `type` and `shape`,
+// whose region selected in `mapped` reads the region selected in
+// `source_space` of dataset `source` in file `source_file`: an HDF5 virtual
+// dataset, nothing copied and none of the source's attributes seen. The
+// rest reads `fill` (HDF5's zero where null).
+inline void write_virtual_dataset(hid_t parent, const std::string& name, hid_t type, const std::vector<hsize_t>& shape,
+                                  hid_t mapped, const std::string& source_file, const std::string& source,
+                                  hid_t source_space, const void* fill = nullptr) {
+  H5Handle properties(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "create properties of " + name);
+  if (fill) h5_check(H5Pset_fill_value(properties, type, fill), "set fill value of " + name);
+  h5_check(H5Pset_virtual(properties, mapped, source_file.c_str(), source.c_str(), source_space),
+           "map " + name + " onto " + source);
+  H5Handle links(H5Pcreate(H5P_LINK_CREATE), H5Pclose, "create link properties");
+  h5_check(H5Pset_create_intermediate_group(links, 1), "set intermediate groups");
+  const H5Handle space = simple_space(shape, name);
+  H5Handle dataset(H5Dcreate2(parent, name.c_str(), type, space, links, properties, H5P_DEFAULT), H5Dclose,
+                   "create " + name);
+}
+
 }  // namespace granflow

@@ -77,21 +77,6 @@ void write_series_at_frames(const H5mdReader& reader, const std::string& name, c
   copy_unit(reader, source + "/value", open_dataset(series, "value"));
 }
 
-// Dataset `name` reading the whole of `source_dataset` in `source_file` (an
-// HDF5 virtual dataset: nothing is copied, and the source's attributes,
-// units among them, are not seen).
-void map_whole(hid_t parent, const std::string& name, const std::string& source_file,
-               const std::string& source_dataset, const std::vector<std::uint64_t>& shape) {
-  const std::vector<hsize_t> dims(shape.begin(), shape.end());
-  H5Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose,
-                 "create space of " + name);
-  H5Handle properties(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "create properties of " + name);
-  h5_check(H5Pset_virtual(properties, space, source_file.c_str(), source_dataset.c_str(), space),
-           "map " + name + " onto " + source_dataset);
-  H5Handle dataset(H5Dcreate2(parent, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, properties, H5P_DEFAULT),
-                   H5Dclose, "create " + name);
-}
-
 // /particles/trajectory: the frames' positions and velocities mapped onto
 // the result file, their steps and times, and the box, all without units
 // (MDAnalysis refuses reduced ones).
@@ -105,7 +90,9 @@ void write_trajectory(const H5mdReader& reader, const ParticleFrames& frames, co
     const H5Handle group = create_group(trajectory, element);
     write_dataset(group, "step", H5T_NATIVE_INT64, frames.steps.data(), {count});
     write_dataset(group, "time", H5T_NATIVE_DOUBLE, frames.times.data(), {count});
-    map_whole(group, "value", source, from, reader.shape(from));
+    const auto shape = reader.shape(from);
+    const H5Handle whole = simple_space({shape.begin(), shape.end()}, from);
+    write_virtual_dataset(group, "value", H5T_NATIVE_DOUBLE, {shape.begin(), shape.end()}, whole, source, from, whole);
   }
   const H5Handle box = create_group(trajectory, "box");
   write_numeric_attribute<int>(box, "dimension", H5T_NATIVE_INT, {static_cast<int>(frames.dimension)});

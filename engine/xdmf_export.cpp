@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "engine/h5_handle.hpp"
+#include "engine/h5_write.hpp"
 #include "engine/h5md_reader.hpp"
 #include "engine/input_error.hpp"
 #include "engine/particle_frames.hpp"
@@ -54,44 +55,28 @@ class VirtualFrames {
     std::vector<hsize_t> slice(shape.begin() + 1, shape.end());
     std::vector<hsize_t> virtual_shape = slice;
     if (width > virtual_shape.back()) virtual_shape.back() = width;
-    H5Handle virtual_space(H5Screate_simple(static_cast<int>(virtual_shape.size()), virtual_shape.data(), nullptr),
-                           H5Sclose, "create space of " + name);
+    const H5Handle virtual_space = simple_space(virtual_shape, name);
     const std::vector<hsize_t> origin(slice.size(), 0);
     h5_check(H5Sselect_hyperslab(virtual_space, H5S_SELECT_SET, origin.data(), nullptr, slice.data(), nullptr),
              "select " + name);
-    H5Handle source_space(H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr), H5Sclose,
-                          "create space of " + source);
+    const H5Handle source_space = simple_space(shape, source);
     std::vector<hsize_t> start(shape.size(), 0), count = shape;
     start[0] = frame;
     count[0] = 1;
     h5_check(H5Sselect_hyperslab(source_space, H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
              "select frame of " + source);
-    H5Handle properties(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "create properties of " + name);
     const double zero = 0.0;
     const std::int32_t zero_integer = 0;
-    h5_check(H5Pset_fill_value(properties, type, type == H5T_NATIVE_DOUBLE ? static_cast<const void*>(&zero)
-                                                                           : static_cast<const void*>(&zero_integer)),
-             "set fill value of " + name);
-    h5_check(H5Pset_virtual(properties, virtual_space, source_.c_str(), source.c_str(), source_space),
-             "map " + name + " onto " + source);
-    H5Handle full_space(H5Screate_simple(static_cast<int>(virtual_shape.size()), virtual_shape.data(), nullptr),
-                        H5Sclose, "create space of " + name);
-    H5Handle links(H5Pcreate(H5P_LINK_CREATE), H5Pclose, "create link properties");
-    h5_check(H5Pset_create_intermediate_group(links, 1), "set intermediate groups");
-    H5Handle dataset(H5Dcreate2(file_, name.c_str(), type, full_space, links, properties, H5P_DEFAULT), H5Dclose,
-                     "create " + name);
+    write_virtual_dataset(file_, name, type, virtual_shape, virtual_space, source_, source, source_space,
+                          type == H5T_NATIVE_DOUBLE ? static_cast<const void*>(&zero)
+                                                    : static_cast<const void*>(&zero_integer));
   }
 
   // Vertex k of the point cloud is particle k.
   void write_connectivity(std::size_t count) {
     std::vector<std::int32_t> vertices(count);
     for (std::size_t i = 0; i < count; ++i) vertices[i] = static_cast<std::int32_t>(i);
-    const hsize_t n = count;
-    H5Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose, "create space of connectivity");
-    H5Handle dataset(H5Dcreate2(file_, "connectivity", H5T_NATIVE_INT32, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                     H5Dclose, "create connectivity");
-    h5_check(H5Dwrite(dataset, H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, vertices.data()),
-             "write connectivity");
+    write_dataset(file_, "connectivity", H5T_NATIVE_INT32, vertices.data(), {count});
   }
 
   void finish() {
