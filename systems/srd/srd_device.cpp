@@ -62,8 +62,8 @@ void copy_to_host(T* to, const Column<T>& from, const char* what) {
 
 template <class F>
 void for_each_index(std::size_t count, const F& f) {
-  thrust::for_each(thrust::device, thrust::counting_iterator<std::size_t>(0), thrust::counting_iterator<std::size_t>(count),
-                   f);
+  const thrust::counting_iterator<std::size_t> first(0);
+  thrust::for_each(thrust::device, first, first + count, f);
 }
 
 // The layer of this step's grid a no-slip wall with ghosts cuts.
@@ -714,7 +714,8 @@ SrdDeviceReport SrdDevice::Impl::step(const SrdDeviceStep& in, const SrdSumReque
     const double thermal = s[D], dof = D * (static_cast<double>(n) - occupied_cells);
     if (thermal > 0.0 && dof > 0.0) {
       const double factor = std::sqrt(setup.thermostat * dof / thermal);
-      for_each_index(n, Thermostat<D>{k, raw(v), raw(cell), img, raw(velocity), factor, {drift[0], drift[1], drift[2]}});
+      for_each_index(n,
+                     Thermostat<D>{k, raw(v), raw(cell), img, raw(velocity), factor, {drift[0], drift[1], drift[2]}});
       for_each_index(cell_count, ShiftMeans<D>{raw(velocity), {drift[0], drift[1], drift[2]}});
     }
     timer.finish(thermostat_stage);

@@ -37,7 +37,8 @@
 namespace granflow::srd {
 
 inline const SystemDescription srd_device_step_description{
-    "srd_device_step", "the SRD step on a GPU or Thrust's host back end: streaming to thermostat, the columns resident there"};
+    "srd_device_step",
+    "the SRD step on a GPU or Thrust's host back end: streaming to thermostat, the columns resident there"};
 
 struct DeviceStepParameters {
   double dt = 1.0;
