@@ -2,7 +2,9 @@
 // Output times of a run: t = 0, then evenly spaced or log-spaced up to t_stop
 // (which is always included).
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -49,6 +51,19 @@ inline std::vector<double> log_output_times(double t_stop, double first, int poi
   }
   times.push_back(t_stop);
   return times;
+}
+
+// The log-spaced times above as whole steps of `dt`: step 0, then each
+// time's nearest step where it is later than the previous one, up to the
+// step of t_stop (included).
+inline std::vector<std::int64_t> log_output_steps(double t_stop, double first, int points_per_decade, double dt) {
+  const auto last = static_cast<std::int64_t>(std::llround(t_stop / dt));
+  std::vector<std::int64_t> steps;
+  for (double t : log_output_times(t_stop, first, points_per_decade)) {
+    const auto step = std::min<std::int64_t>(last, std::llround(t / dt));
+    if (steps.empty() || step > steps.back()) steps.push_back(step);
+  }
+  return steps;
 }
 
 }  // namespace granflow

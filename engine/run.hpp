@@ -188,5 +188,13 @@ void build_by_dimension(Run& run) {
   else
     Build3(run);
 }
+// The same for scenarios that also run in 1D.
+template <void (*Build1)(Run&), void (*Build2)(Run&), void (*Build3)(Run&)>
+void build_by_dimension(Run& run) {
+  if (run.config().integer("system.dimension") == 1)
+    Build1(run);
+  else
+    build_by_dimension<Build2, Build3>(run);
+}
 
 }  // namespace granflow

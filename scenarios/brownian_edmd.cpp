@@ -24,10 +24,10 @@
 #include "engine/output_times.hpp"
 #include "engine/run.hpp"
 #include "engine/runner.hpp"
-#include "engine/sample_statistics.hpp"
 #include "systems/edmd/event_driven_run.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/observables/kinetic_energy.hpp"
+#include "systems/observables/least_squares.hpp"
 #include "systems/observables/msd.hpp"
 #include "systems/observables/time_averaged_msd.hpp"
 #include "systems/sde/sde_theory.hpp"
@@ -35,11 +35,6 @@
 namespace granflow::scenarios {
 
 namespace {
-
-std::vector<double> msd_times(const Config& c) {
-  return log_output_times(c.real("run.t_stop"), c.real("output.first"),
-                          static_cast<int>(c.integer("output.points_per_decade")));
-}
 
 void build(Run& run) {
   constexpr int D = 3;
@@ -58,7 +53,8 @@ void build(Run& run) {
   const double energy0 = run.derived("initial_kinetic_energy");
   edmd::add_event_driven_gas<D>(run, edmd::box_from<D>(c), edmd::CollisionParameters::from(c),
                                 edmd::advance_limits_from(c, run.world().size(), energy0), energy0);
-  auto times = msd_times(c);
+  auto times = log_output_times(c.real("run.t_stop"), c.real("output.first"),
+                                static_cast<int>(c.integer("output.points_per_decade")));
   times.erase(times.begin());  // the MSD is 0 at t = 0
   run.keep("msd", run.observe<MsdObserver<D>>(std::make_shared<AtTimes>(times), run.world()));
   const double interval = c.real("msd.sample_interval");
@@ -69,22 +65,7 @@ void build(Run& run) {
 }
 
 void write(const EdmdMsdResult& r, H5mdFile& file) {
-  // D(t) of the theory from its MSD, ballistic start included, as the measured one is.
-  const auto diffusivity = diffusivity_from_msd(r.time, r.msd, 3);
-  const auto diffusivity_theory = diffusivity_from_msd(r.time, r.msd_theory, 3);
-  declare_msd_series_units(file);
-  for (std::size_t k = 0; k < r.time.size(); ++k) {
-    const auto step = static_cast<std::int64_t>(k);
-    file.append_observable("msd", step, r.time[k], r.msd[k]);
-    file.append_observable("msd_stderr", step, r.time[k], r.msd_stderr[k]);
-    file.append_observable("msd_theory", step, r.time[k], r.msd_theory[k]);
-    file.append_observable("diffusivity", step, r.time[k], diffusivity[k]);
-    file.append_observable("diffusivity_theory", step, r.time[k], diffusivity_theory[k]);
-  }
-  for (std::size_t k = 0; k < r.lag.size(); ++k) {
-    file.append_observable("time_averaged_msd", static_cast<std::int64_t>(k), r.lag[k], r.time_averaged_msd[k]);
-    file.append_observable("ergodicity_breaking", static_cast<std::int64_t>(k), r.lag[k], r.ergodicity_breaking[k]);
-  }
+  write_ensemble_msd(file, r, 3, [](std::size_t k, double) { return static_cast<std::int64_t>(k); });
   file.write_attribute("/parameters/derived", "initial_temperature", r.temperature0);
   file.write_attribute("/parameters/derived", "enskog_diffusivity0", r.enskog.diffusivity0);
   file.write_attribute("/parameters/derived", "gamma0", r.enskog.gamma0);
@@ -134,49 +115,22 @@ const Scenario brownian_edmd{
 EdmdMsdResult reduce_edmd_msd(const EnsembleResults& results) {
   const Config& config = results.config;
   const auto runs = static_cast<double>(results.members.size());
-  EdmdMsdResult out;
   double t0 = 0.0;
   for (const auto& m : results.members) t0 += m.derived.at("initial_temperature") / runs;
-  out.temperature0 = t0;
   const double count = static_cast<double>(config.integer("system.count"));
-  out.enskog = sde::model_from_gas(count, config.real("system.radius"), config.real("collision.restitution"), t0,
+  const auto enskog = sde::model_from_gas(count, config.real("system.radius"), config.real("collision.restitution"), t0,
                                    config.real("system.mass"), std::pow(config.real("system.box_length"), 3));
-  const auto& first = results.members.front().history.at("msd");
-  for (const auto& sample : first) out.time.push_back(sample.time);
-  const auto theory = sde::moment_msd(out.enskog, t0 / config.real("system.mass"), out.time);
-  for (std::size_t k = 0; k < out.time.size(); ++k) {
-    const auto [mean, error] = mean_and_standard_error(member_values(results, "msd", k));
-    out.msd.push_back(mean);
-    out.msd_stderr.push_back(error);
-    out.msd_theory.push_back(3.0 * theory[k]);
-  }
+  std::vector<double> time, theory;
+  for (const auto& sample : results.members.front().history.at("msd")) time.push_back(sample.time);
+  for (double per_axis : sde::moment_msd(enskog, t0 / config.real("system.mass"), time)) theory.push_back(3.0 * per_axis);
+  EdmdMsdResult out{reduce_ensemble_msd(results, std::move(time), std::move(theory), config.real("msd.sample_interval"))};
+  out.temperature0 = t0;
+  out.enskog = enskog;
   // Slope over the last decade (least squares).
-  const double t_stop = config.real("run.t_stop");
-  double st = 0, sm = 0, stt = 0, stm = 0, n = 0;
+  LineFit last_decade;
   for (std::size_t k = 0; k < out.time.size(); ++k)
-    if (out.time[k] >= 0.1 * t_stop) {
-      st += out.time[k];
-      sm += out.msd[k];
-      stt += out.time[k] * out.time[k];
-      stm += out.time[k] * out.msd[k];
-      n += 1;
-    }
-  out.long_time_slope = n >= 2 ? (n * stm - st * sm) / (n * stt - st * st) : std::nan("");
-  const auto& history = results.members.front().history;
-  if (history.count("time_averaged_msd_lag")) {
-    const double interval = config.real("msd.sample_interval");
-    const auto& lag = history.at("time_averaged_msd_lag").back().value;
-    for (std::size_t k = 0; k < lag.size(); ++k) {
-      double m = 0.0, eb = 0.0;
-      for (const auto& member : results.members) {
-        m += member.history.at("time_averaged_msd").back().value.at(k) / runs;
-        eb += member.history.at("ergodicity_breaking").back().value.at(k) / runs;
-      }
-      out.lag.push_back(lag[k] * interval);
-      out.time_averaged_msd.push_back(m);
-      out.ergodicity_breaking.push_back(eb);
-    }
-  }
+    if (out.time[k] >= 0.1 * config.real("run.t_stop")) last_decade.add(out.time[k], out.msd[k]);
+  out.long_time_slope = last_decade.slope();
   return out;
 }
 

@@ -1,18 +1,15 @@
 #pragma once
 // Scenario `brownian_edmd`: see scenarios/brownian_edmd.cpp.
 
-#include <vector>
-
 #include "engine/config.hpp"
 #include "engine/scenario.hpp"
+#include "systems/observables/ensemble_msd.hpp"
 #include "systems/sde/sde_model.hpp"
 
 namespace granflow::scenarios {
 
 
-struct EdmdMsdResult {
-  std::vector<double> time, msd, msd_stderr, msd_theory;
-  std::vector<double> lag, time_averaged_msd, ergodicity_breaking;
+struct EdmdMsdResult : EnsembleMsd {
   sde::SdeModel enskog;          // gamma0, D0 (Enskog) and tau0 (Haff) of the initial state
   double temperature0 = 0.0;
   double long_time_slope = 0.0;  // least-squares slope of the MSD over the last decade of times

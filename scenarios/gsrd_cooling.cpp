@@ -12,6 +12,7 @@
 #include <memory>
 #include <vector>
 
+#include "engine/output_times.hpp"
 #include "engine/run.hpp"
 #include "engine/scenario.hpp"
 #include "systems/srd/srd_fields.hpp"
@@ -25,18 +26,6 @@
 namespace granflow::scenarios {
 namespace {
 
-// Step 0, then `per_decade` log-spaced steps per decade up to `last` (included).
-std::vector<std::int64_t> log_steps(std::int64_t last, int per_decade) {
-  std::vector<std::int64_t> steps{0};
-  for (int k = 0;; ++k) {
-    const auto step = static_cast<std::int64_t>(std::llround(std::pow(10.0, static_cast<double>(k) / per_decade)));
-    if (step >= last) break;
-    if (step > steps.back()) steps.push_back(step);
-  }
-  steps.push_back(last);
-  return steps;
-}
-
 template <int D>
 void build(Run& run) {
   const Config& c = run.config();
@@ -48,7 +37,8 @@ void build(Run& run) {
   run.derive("haff_tau", tau);
   run.derive("initial_temperature", c.real("srd.temperature"));
   const auto outputs =
-      std::make_shared<AtSteps>(log_steps(c.integer("run.steps"), static_cast<int>(c.integer("output.points_per_decade"))));
+      std::make_shared<AtSteps>(log_output_steps(static_cast<double>(c.integer("run.steps")), 1.0,
+                                                static_cast<int>(c.integer("output.points_per_decade")), 1.0));
   srd::add_srd_frames<D>(run, outputs);
   srd::observe_state<D>(run, outputs);
   const auto bins = static_cast<std::size_t>(c.integer("output.distribution_bins"));

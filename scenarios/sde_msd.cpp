@@ -15,32 +15,19 @@
 
 #include "scenarios/sde_msd.hpp"
 
-#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <tbb/task_arena.h>
 
-#include <cmath>
-
-#include "components/position.hpp"
-#include "components/velocity.hpp"
 #include "engine/ensemble_keys.hpp"
-#include "engine/h5md_file.hpp"
 #include "engine/memory_check.hpp"
-#include "engine/output_times.hpp"
-#include "engine/rng.hpp"
 #include "engine/run.hpp"
 #include "engine/runner.hpp"
-#include "engine/sample_statistics.hpp"
-#include "engine/stream_ids.hpp"
-#include "systems/initial/initial_velocities.hpp"
 #include "systems/observables/msd.hpp"
 #include "systems/observables/particle_frames.hpp"
-#include "systems/observables/time_averaged_msd.hpp"
+#include "systems/sde/sde_ensemble.hpp"
 #include "systems/sde/sde_frames.hpp"
-#include "systems/sde/sde_parameters.hpp"
 #include "systems/sde/sde_step.hpp"
-#include "systems/sde/sde_theory.hpp"
 
 namespace granflow::scenarios {
 
@@ -64,47 +51,11 @@ void declare_keys(ConfigSchema& s, bool scaled) {
   declare_frame_keys(s, "none");
 }
 
-struct Stepping {
-  double dt;
-  std::int64_t total_steps;
-  std::vector<std::int64_t> output_steps;  // log-spaced output times rounded to whole steps
-  sde::Scheme scheme;
-  double initial_velocity_variance;  // per component
-};
-
-Stepping stepping_from(const Config& config, const sde::SdeModel& model, int dimension) {
-  Stepping s;
-  s.dt = config.real("run.dt");
-  const double t_stop = config.real("run.t_stop");
-  s.total_steps = static_cast<std::int64_t>(std::llround(t_stop / s.dt));
-  if (s.total_steps < 1 || s.total_steps > 1e12)
-    throw ConfigError(fmt::format("run.t_stop / run.dt = {:.3g} steps: allowed is 1 to 1e12", t_stop / s.dt));
-  for (double t : log_output_times(t_stop, config.real("output.first"),
-                                   static_cast<int>(config.integer("output.points_per_decade")))) {
-    const auto step = std::min<std::int64_t>(s.total_steps, std::llround(t / s.dt));
-    if (step > 0 && (s.output_steps.empty() || step > s.output_steps.back())) s.output_steps.push_back(step);
-  }
-  s.scheme = sde::scheme_from(config);
-  if (s.scheme == sde::Scheme::euler_maruyama && model.gamma0 * s.dt >= 2.0)
-    throw ConfigError(fmt::format("run.dt = {} with gamma0 = {:.4g}: Euler-Maruyama's velocity update diverges for "
-                                  "gamma0 * dt >= 2 (here {:.3g}); lower run.dt or use run.scheme = \"exact_ou\"",
-                                  s.dt, model.gamma0, model.gamma0 * s.dt));
-  if (model.scaled() && sde::moment_msd_steps(model, t_stop) > 1e10)
-    throw ConfigError(fmt::format("the UDSBM theory curve would need {:.3g} integration steps (gamma0 * tau0 = {:.3g}); "
-                                  "lower gamma0 or tau0 (sde.* or gas.*) or run.t_stop",
-                                  sde::moment_msd_steps(model, t_stop), model.gamma0 * model.tau0));
-  const double speed = config.real("initial.speed");
-  s.initial_velocity_variance = config.text("initial.velocity") == "stationary"
-                                    ? model.stationary_velocity_variance(0.0)
-                                    : speed * speed / dimension;
-  return s;
-}
-
 template <int D>
 void build(Run& run) {
   const Config& c = run.config();
   const sde::SdeModel model = sde::sde_model_from(c);
-  const Stepping s = stepping_from(c, model, D);
+  const auto s = sde::ensemble_stepping_from(c, model, D);
   if (run.member() == 0 && model.gamma0 * s.dt > 0.5)
     spdlog::warn("gamma0 * dt = {:.3g}: the step does not resolve the velocity relaxation time 1/gamma0; the MSD "
                  "is only right at times of many steps",
@@ -115,19 +66,7 @@ void build(Run& run) {
   require_memory(fmt::format("system.count = {} with {} runs at a time", count, at_once),
                  3.0 * 8.0 * D * static_cast<double>(count) * static_cast<double>(at_once) +
                      sde::sde_frame_bytes(c, s.output_steps.size()));
-  const bool stationary = c.text("initial.velocity") == "stationary";
-  run.initial_state([&](World& world) {
-    world.resize(count);
-    world.add_component<Position<D>>().values.assign(count, Vec<D>::Zero());
-    auto& velocity = world.add_component<Velocity<D>>();
-    for (std::size_t i = 0; i < count; ++i) {
-      Philox random(stream::sde_initial, run.seed(), 0, i);
-      if (stationary)
-        for (int a = 0; a < D; ++a) velocity[i][a] = std::sqrt(s.initial_velocity_variance) * random.normal();
-      else
-        velocity[i] = c.real("initial.speed") * random_direction<D>(random);
-    }
-  });
+  run.initial_state([&](World& world) { sde::start_at_origin<D>(world, c, count, s, run.seed()); });
   run.step<sde::SdeAdvance<D>>(model, s.scheme, s.dt, run.seed());
   run.keep("msd", run.observe<MsdObserver<D>>(std::make_shared<AtSteps>(s.output_steps), run.world()));
   sde::add_sde_frames<D>(run, s.output_steps);
@@ -143,41 +82,13 @@ void write(const Config& config, const SdeMsdResult& result, H5mdFile& file) {
   file.write_attribute("/parameters/derived", "diffusivity0", model.diffusivity0);
   file.write_attribute("/parameters/derived", "tau0", model.tau0);
   file.write_attribute("/parameters/derived", "initial_velocity_variance", result.initial_velocity_variance);
-  const auto dimension = static_cast<int>(config.integer("system.dimension"));
-  const auto diffusivity = diffusivity_from_msd(result.time, result.msd, dimension);
-  const auto diffusivity_theory = diffusivity_from_msd(result.time, result.msd_theory, dimension);
   const double dt = config.real("run.dt");
-  declare_msd_series_units(file);
-  for (std::size_t k = 0; k < result.time.size(); ++k) {
-    const auto step = std::llround(result.time[k] / dt);
-    file.append_observable("msd", step, result.time[k], result.msd[k]);
-    file.append_observable("msd_stderr", step, result.time[k], result.msd_stderr[k]);
-    file.append_observable("msd_theory", step, result.time[k], result.msd_theory[k]);
-    file.append_observable("diffusivity", step, result.time[k], diffusivity[k]);
-    file.append_observable("diffusivity_theory", step, result.time[k], diffusivity_theory[k]);
-  }
-  // Lags of the time average are stored as the `time` of these series.
-  for (std::size_t k = 0; k < result.lag.size(); ++k) {
-    const auto step = std::llround(result.lag[k] / dt);
-    file.append_observable("time_averaged_msd", step, result.lag[k], result.time_averaged_msd[k]);
-    file.append_observable("time_averaged_msd_stderr", step, result.lag[k], result.time_averaged_msd_stderr[k]);
-    file.append_observable("ergodicity_breaking", step, result.lag[k], result.ergodicity_breaking[k]);
-  }
-  double worst = 0.0;
-  for (std::size_t k = 0; k < result.time.size(); ++k)
-    if (result.msd_stderr[k] > 0)
-      worst = std::max(worst, std::abs(result.msd[k] - result.msd_theory[k]) / result.msd_stderr[k]);
+  write_ensemble_msd(file, result, static_cast<int>(config.integer("system.dimension")),
+                     [dt](std::size_t, double t) { return std::llround(t / dt); });
+  const double worst = largest_deviation_in_standard_errors(result);
   file.write_attribute("/observables", "largest_deviation_in_standard_errors", worst);
   spdlog::info("MSD({}) = {:.5g} +- {:.2g} (theory {:.5g}); largest deviation from theory {:.2f} standard errors",
                result.time.back(), result.msd.back(), result.msd_stderr.back(), result.msd_theory.back(), worst);
-}
-
-void build_any(Run& run) {
-  switch (run.config().integer("system.dimension")) {
-    case 1: return build<1>(run);
-    case 2: return build<2>(run);
-    default: return build<3>(run);
-  }
 }
 
 Scenario sde_scenario(const std::string& name, bool scaled, const std::string& summary) {
@@ -186,7 +97,7 @@ Scenario sde_scenario(const std::string& name, bool scaled, const std::string& s
       .summary = summary,
       .default_output = name + ".h5md",
       .keys = [scaled](ConfigSchema& s) { declare_keys(s, scaled); },
-      .build = build_any,
+      .build = build_by_dimension<build<1>, build<2>, build<3>>,
       .members = ensemble_members,
       .reduce =
           [](const EnsembleResults& r, H5mdFile& file) {
@@ -207,27 +118,12 @@ SdeMsdResult reduce_sde_msd(const EnsembleResults& results) {
   const Config& config = results.config;
   const sde::SdeModel model = sde::sde_model_from(config);
   const auto dimension = static_cast<int>(config.integer("system.dimension"));
-  const Stepping s = stepping_from(config, model, dimension);
-  SdeMsdResult out;
+  const auto s = sde::ensemble_stepping_from(config, model, dimension);
+  std::vector<double> time, theory;
+  for (std::int64_t step : s.output_steps) time.push_back(static_cast<double>(step) * s.dt);
+  for (double per_axis : sde::moment_msd(model, s.initial_velocity_variance, time)) theory.push_back(dimension * per_axis);
+  SdeMsdResult out{reduce_ensemble_msd(results, std::move(time), std::move(theory), s.dt)};
   out.initial_velocity_variance = s.initial_velocity_variance;
-  for (std::int64_t step : s.output_steps) out.time.push_back(static_cast<double>(step) * s.dt);
-  const auto theory = sde::moment_msd(model, s.initial_velocity_variance, out.time);
-  for (std::size_t k = 0; k < out.time.size(); ++k) {
-    const auto [mean, error] = mean_and_standard_error(member_values(results, "msd", k));
-    out.msd.push_back(mean);
-    out.msd_stderr.push_back(error);
-    out.msd_theory.push_back(dimension * theory[k]);
-  }
-  const auto& history = results.members.back().history;
-  if (!history.count("time_averaged_msd_lag")) return out;
-  const auto& lags = history.at("time_averaged_msd_lag").back().value;
-  for (std::size_t k = 0; k < lags.size(); ++k) {
-    const auto [mean, error] = mean_and_standard_error(member_values(results, "time_averaged_msd", 0, k));
-    out.lag.push_back(lags[k] * s.dt);
-    out.time_averaged_msd.push_back(mean);
-    out.time_averaged_msd_stderr.push_back(error);
-    out.ergodicity_breaking.push_back(mean_and_standard_error(member_values(results, "ergodicity_breaking", 0, k)).mean);
-  }
   return out;
 }
 

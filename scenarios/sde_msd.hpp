@@ -1,20 +1,15 @@
 #pragma once
 // Scenarios `langevin_msd` and `udsbm_msd`: see scenarios/sde_msd.cpp.
 
-#include <string>
-#include <vector>
-
 #include "engine/config.hpp"
 #include "engine/scenario.hpp"
-#include "systems/sde/sde_model.hpp"
+#include "systems/observables/ensemble_msd.hpp"
 
 namespace granflow::scenarios {
 
 
 // Ensemble and time-averaged MSD of one configuration, every run done.
-struct SdeMsdResult {
-  std::vector<double> time, msd, msd_stderr, msd_theory;
-  std::vector<double> lag, time_averaged_msd, time_averaged_msd_stderr, ergodicity_breaking;
+struct SdeMsdResult : EnsembleMsd {
   double initial_velocity_variance = 0.0;  // per component
 };
 // Mean and standard error over the ensemble's runs, and the theory.

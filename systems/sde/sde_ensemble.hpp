@@ -1,0 +1,82 @@
+#pragma once
+// The ensemble an SDE MSD study integrates: `system.count` independent
+// particles started at the origin, stepped with run.dt up to run.t_stop and
+// observed at log-spaced whole steps; their initial velocities are drawn
+// from the noise's stationary Gaussian at t = 0 or at one speed in random
+// directions (as the hard-sphere gas starts).
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "components/position.hpp"
+#include "components/velocity.hpp"
+#include "engine/config.hpp"
+#include "engine/output_times.hpp"
+#include "engine/rng.hpp"
+#include "engine/stream_ids.hpp"
+#include "engine/world.hpp"
+#include "systems/initial/initial_velocities.hpp"
+#include "systems/sde/sde_model.hpp"
+#include "systems/sde/sde_parameters.hpp"
+#include "systems/sde/sde_theory.hpp"
+
+namespace granflow::sde {
+
+struct EnsembleStepping {
+  double dt;
+  std::int64_t total_steps;
+  std::vector<std::int64_t> output_steps;  // log-spaced output times rounded to whole steps, t = 0 left out
+  Scheme scheme;
+  double initial_velocity_variance;  // per component
+};
+
+// The stepping of `config`, refusing (ConfigError) what the scheme or the
+// theory curve cannot do.
+inline EnsembleStepping ensemble_stepping_from(const Config& config, const SdeModel& model, int dimension) {
+  EnsembleStepping s;
+  s.dt = config.real("run.dt");
+  const double t_stop = config.real("run.t_stop");
+  s.total_steps = static_cast<std::int64_t>(std::llround(t_stop / s.dt));
+  if (s.total_steps < 1 || s.total_steps > 1e12)
+    throw ConfigError(fmt::format("run.t_stop / run.dt = {:.3g} steps: allowed is 1 to 1e12", t_stop / s.dt));
+  s.output_steps = log_output_steps(t_stop, config.real("output.first"),
+                                    static_cast<int>(config.integer("output.points_per_decade")), s.dt);
+  s.output_steps.erase(s.output_steps.begin());  // the MSD is 0 at t = 0
+  s.scheme = scheme_from(config);
+  if (s.scheme == Scheme::euler_maruyama && model.gamma0 * s.dt >= 2.0)
+    throw ConfigError(fmt::format("run.dt = {} with gamma0 = {:.4g}: Euler-Maruyama's velocity update diverges for "
+                                  "gamma0 * dt >= 2 (here {:.3g}); lower run.dt or use run.scheme = \"exact_ou\"",
+                                  s.dt, model.gamma0, model.gamma0 * s.dt));
+  if (model.scaled() && moment_msd_steps(model, t_stop) > 1e10)
+    throw ConfigError(fmt::format("the UDSBM theory curve would need {:.3g} integration steps (gamma0 * tau0 = {:.3g}); "
+                                  "lower gamma0 or tau0 (sde.* or gas.*) or run.t_stop",
+                                  moment_msd_steps(model, t_stop), model.gamma0 * model.tau0));
+  const double speed = config.real("initial.speed");
+  s.initial_velocity_variance = config.text("initial.velocity") == "stationary"
+                                    ? model.stationary_velocity_variance(0.0)
+                                    : speed * speed / dimension;
+  return s;
+}
+
+// `count` particles at the origin with velocities drawn as `config` says
+// (stream sde_initial of `seed`, one substream per particle).
+template <int D>
+void start_at_origin(World& world, const Config& config, std::size_t count, const EnsembleStepping& s,
+                     std::uint64_t seed) {
+  const bool stationary = config.text("initial.velocity") == "stationary";
+  world.resize(count);
+  world.add_component<Position<D>>().values.assign(count, Vec<D>::Zero());
+  auto& velocity = world.add_component<Velocity<D>>();
+  for (std::size_t i = 0; i < count; ++i) {
+    Philox random(stream::sde_initial, seed, 0, i);
+    if (stationary)
+      for (int a = 0; a < D; ++a) velocity[i][a] = std::sqrt(s.initial_velocity_variance) * random.normal();
+    else
+      velocity[i] = config.real("initial.speed") * random_direction<D>(random);
+  }
+}
+
+}  // namespace granflow::sde
