@@ -22,7 +22,7 @@
 
 #include "engine/run.hpp"
 #include "engine/scenario.hpp"
-#include "systems/srd/srd_energy.hpp"
+#include "systems/srd/srd_energy_balance.hpp"
 #include "systems/srd/srd_fields.hpp"
 #include "systems/srd/srd_height_observer.hpp"
 #include "systems/srd/srd_profiles.hpp"
@@ -39,17 +39,8 @@ void build(Run& run) {
   const Config& c = run.config();
   const auto cells = srd::cells_from<D>(c);
   constexpr int up = D - 1;  // the walls' axis: z in 3D, y in 2D
-  auto walls = srd::walls_from<D>(c, cells);
-  if (walls.empty())
-    for (int side : {-1, +1}) {  // bounce-back floor and ceiling, without ghosts: the floor's motion is the only source
-      srd::Wall w;
-      w.axis = up;
-      w.side = side;
-      w.rest = side < 0 ? 0.0 : static_cast<double>(cells[up]);
-      w.temperature = c.real("srd.temperature");
-      w.ghosts = false;
-      walls.push_back(w);
-    }
+  // Bounce-back floor and ceiling, without ghosts: the floor's motion is the only source.
+  auto walls = srd::walls_or_pair_across<D>(c, cells, up, false);
   for (srd::Wall& w : walls) {
     if (w.axis != up)
       throw ConfigError(fmt::format("gsrd_shaken has its floor and ceiling across the last axis ({}): walls on axis {} "
@@ -83,49 +74,16 @@ void build(Run& run) {
                                                : 0.0);
   std::array<double, D> g{};
   for (int a = 0; a < D; ++a) g[a] = force.acceleration[a];
-  const auto ledger = std::make_shared<srd::EnergyLedger>();
-  run.keep("energy", *ledger);
-  run.observe<srd::SrdEnergyAccount<D>>(std::make_shared<EverySteps>(1, 1), ledger);
   const auto outputs = std::make_shared<EverySteps>(every);
   srd::add_srd_frames<D>(run, outputs);
-  run.observe<srd::SrdEnergyObserver<D>>(outputs, ledger, g);
-  run.observe<srd::SrdEnergyWatch>(outputs);
+  srd::add_energy_balance<D>(run, outputs, g);
   srd::observe_state<D>(run, outputs);
   run.observe<srd::SrdHeightObserver<D>>(outputs, up, n0);
-  double layer_volume = 1.0;
-  for (int a = 0; a < D; ++a)
-    if (a != up) layer_volume *= cells[a];
-  const int layers = cells[up];
-  auto sums = std::make_shared<srd::ProfileSums>(layers, D);
-  run.keep("profiles", *sums);
-  run.observe<srd::SrdProfileSampler<D>>(std::make_shared<EverySteps>(1, warmup + 1), up, 0, sums);
-  run.observe<srd::SrdProfileObserver<D>>(std::make_shared<EverySteps>(every, warmup + every), layer_volume, 1.0, sums);
-  run.at_finish([sums, layer_volume, layers, n0](H5mdFile& file, const RunOutcome&) {
-    const auto overall = sums->overall(layer_volume, 1.0);
-    if (sums->samples() == 0) return;
-    const auto densest = static_cast<int>(std::max_element(overall.density.begin(), overall.density.end()) -
-                                          overall.density.begin());
-    const double dense_temperature = overall.temperature[static_cast<std::size_t>(densest)];
-    const double floor_temperature = overall.temperature[0];
-    file.write_attribute("/observables", "dense_layer_height", densest + 0.5);
-    file.write_attribute("/observables", "dense_layer_density", overall.density[static_cast<std::size_t>(densest)] / n0);
-    file.write_attribute("/observables", "floor_layer_temperature", floor_temperature);
-    file.write_attribute("/observables", "dense_layer_temperature", dense_temperature);
-    spdlog::info("profiles over {} steps: densest layer at height {:.1f} of {} ({:.3g} n0, temperature {:.4g}); lowest "
-                 "layer {:.3g} n0 at temperature {:.4g}",
-                 sums->samples(), densest + 0.5, layers, overall.density[static_cast<std::size_t>(densest)] / n0,
-                 dense_temperature, overall.density[0] / n0, floor_temperature);
+  const auto sums = srd::add_layer_profiles<D>(run, cells, up, warmup, every);
+  run.at_finish([sums, volume = srd::layer_volume<D>(cells, up), n0](H5mdFile& file, const RunOutcome&) {
+    srd::write_densest_layer(file, *sums, volume, n0);
   });
-  run.at_finish([&run, n0, ledger](H5mdFile&, const RunOutcome&) {
-    const auto& state = run.world().template resource<srd::SrdCells<D>>();
-    const std::uint32_t peak = *std::max_element(state.count.begin(), state.count.end());
-    spdlog::info("energy: injected by the floor {:.6g}, dissipated {:.6g}, exchanged in ghost cells {:.6g}", ledger->injected,
-                 ledger->dissipated, ledger->ghost_exchange);
-    if (peak > 20.0 * n0)
-      spdlog::warn("the fluid has collapsed: one cell holds {} particles, {:.0f} times the mean; granular SRD's "
-                   "compressibility lets the dense layer's pattern coarsen into one spot",
-                   peak, peak / n0);
-  });
+  srd::warn_when_collapsed<D>(run, n0);
 }
 
 }  // namespace

@@ -21,6 +21,7 @@
 #include "engine/system_catalogue.hpp"
 #include "engine/units.hpp"
 #include "engine/world.hpp"
+#include "systems/observables/least_squares.hpp"
 
 namespace granflow::dem {
 
@@ -44,22 +45,14 @@ inline std::array<double, 2> fit_eggers_flux(const std::vector<double>& samples,
     flux[b] += samples[k + 1];
     count[b] += 1.0;
   }
-  double sw = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
-  int used = 0;
+  LineFit fit;
   for (std::size_t b = 0; b < flux.size(); ++b) {
     if (count[b] == 0 || flux[b] == 0) continue;
     const double n = fraction[b] / count[b], f = flux[b] / count[b];
-    const double x = n * n, y = std::log(f / x), w = count[b];
-    sw += w;
-    sx += w * x;
-    sy += w * y;
-    sxx += w * x * x;
-    sxy += w * x * y;
-    ++used;
+    fit.add(n * n, std::log(f / (n * n)), count[b]);
   }
-  const double det = sw * sxx - sx * sx;
-  if (used < 3 || det <= 0) return {0.0, 0.0};
-  const double slope = (sw * sxy - sx * sy) / det, intercept = (sy - slope * sx) / sw;
+  if (fit.points() < 3 || fit.determinant() <= 0) return {0.0, 0.0};
+  const double slope = fit.slope(), intercept = fit.intercept();
   return {std::exp(intercept), -slope};
 }
 

@@ -11,6 +11,7 @@
 #include "components/species.hpp"
 #include "components/velocity.hpp"
 #include "engine/world.hpp"
+#include "systems/observables/least_squares.hpp"
 
 namespace granflow {
 
@@ -62,23 +63,11 @@ class SpeedSamples {
     const double width = h.edges[1] - h.edges[0];
     const double centre = h.edges[highest] + 0.5 * width;
     if (hi - lo < 2) return centre;
-    // Normal equations for y = a + b x + c x^2, x relative to the highest bin.
-    double m[3][4] = {};
-    for (std::size_t k = lo; k <= hi; ++k) {
-      const double x = (h.edges[k] + 0.5 * width - centre) / width, y = h.density[k];
-      const double p[3] = {1.0, x, x * x};
-      for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) m[r][c] += p[r] * p[c];
-        m[r][3] += p[r] * y;
-      }
-    }
-    for (int col = 0; col < 3; ++col)
-      for (int r = col + 1; r < 3; ++r) {
-        const double f = m[r][col] / m[col][col];
-        for (int c = col; c < 4; ++c) m[r][c] -= f * m[col][c];
-      }
-    const double c2 = m[2][3] / m[2][2];
-    const double c1 = (m[1][3] - m[1][2] * c2) / m[1][1];
+    // y = c0 + c1 x + c2 x^2, x in bins relative to the highest bin.
+    const auto c = fit_parabola(
+        hi - lo + 1, [&](std::size_t k) { return (h.edges[lo + k] + 0.5 * width - centre) / width; },
+        [&](std::size_t k) { return h.density[lo + k]; });
+    const double c1 = c[1], c2 = c[2];
     if (!(c2 < 0.0)) return centre;
     const double vertex = std::clamp(-c1 / (2.0 * c2), static_cast<double>(lo) - static_cast<double>(highest),
                                      static_cast<double>(hi) - static_cast<double>(highest));

@@ -30,6 +30,7 @@
 #include "engine/system_catalogue.hpp"
 #include "engine/units.hpp"
 #include "engine/world.hpp"
+#include "systems/observables/least_squares.hpp"
 #include "systems/srd/srd_cells.hpp"
 #include "systems/srd/srd_step_sums.hpp"
 
@@ -72,18 +73,10 @@ class ShearStress : public Stateful {
 
   // Least-squares slope of the slab means, leaving out the slab on each side of the shear plane.
   double measured_shear_rate() const {
-    double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0;
-    for (std::size_t j = 1; j + 1 < profile_.size(); ++j) {
-      if (counts_[j] <= 0) continue;
-      const double y = static_cast<double>(j) + 0.5, u = profile_[j] / counts_[j];
-      sx += y;
-      sy += u;
-      sxx += y * y;
-      sxy += y * u;
-      n += 1;
-    }
-    const double denominator = n * sxx - sx * sx;
-    return denominator > 0 ? (n * sxy - sx * sy) / denominator : 0.0;
+    LineFit fit;
+    for (std::size_t j = 1; j + 1 < profile_.size(); ++j)
+      if (counts_[j] > 0) fit.add(static_cast<double>(j) + 0.5, profile_[j] / counts_[j]);
+    return fit.determinant() > 0 ? fit.slope() : 0.0;
   }
 
   struct Viscosities {

@@ -8,7 +8,11 @@
 // steps since its last output, and keeps the average since the warm-up for
 // the scenario's fit.
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -18,7 +22,9 @@
 #include "components/mass.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
+#include "engine/h5md_file.hpp"
 #include "engine/observable_store.hpp"
+#include "engine/run.hpp"
 #include "engine/state_map.hpp"
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
@@ -179,5 +185,48 @@ class SrdProfileObserver : public System {
   double layer_volume_, mass_;
   std::shared_ptr<ProfileSums> sums_;
 };
+
+// The layer volume of the profiles across `axis` of a box of `cells`.
+template <int D>
+double layer_volume(const std::array<std::int32_t, D>& cells, int axis) {
+  double volume = 1.0;
+  for (int a = 0; a < D; ++a)
+    if (a != axis) volume *= cells[a];
+  return volume;
+}
+
+// The profiles across `axis` of a box of `cells`: sampled every step after
+// `warmup_steps`, written every `every_steps` after it; the sums (kept in
+// checkpoints as "profiles") hold the average since the warm-up.
+template <int D>
+std::shared_ptr<ProfileSums> add_layer_profiles(Run& run, const std::array<std::int32_t, D>& cells, int axis,
+                                                std::int64_t warmup_steps, std::int64_t every_steps) {
+  auto sums = std::make_shared<ProfileSums>(cells[axis], D);
+  run.keep("profiles", *sums);
+  run.observe<SrdProfileSampler<D>>(std::make_shared<EverySteps>(1, warmup_steps + 1), axis, 0, sums);
+  run.observe<SrdProfileObserver<D>>(std::make_shared<EverySteps>(every_steps, warmup_steps + every_steps),
+                                     layer_volume<D>(cells, axis), 1.0, sums);
+  return sums;
+}
+
+// The densest layer of the profiles averaged since the warm-up, against
+// the lowest one (a driven floor's): attributes dense_layer_height (its
+// centre, in cells), dense_layer_density (over the mean `n0`),
+// floor_layer_temperature and dense_layer_temperature.
+inline void write_densest_layer(H5mdFile& file, const ProfileSums& sums, double layer_volume, double n0) {
+  const auto overall = sums.overall(layer_volume, 1.0);
+  if (sums.samples() == 0) return;
+  const auto densest = static_cast<std::size_t>(std::max_element(overall.density.begin(), overall.density.end()) -
+                                                overall.density.begin());
+  const double height = static_cast<double>(densest) + 0.5;
+  file.write_attribute("/observables", "dense_layer_height", height);
+  file.write_attribute("/observables", "dense_layer_density", overall.density[densest] / n0);
+  file.write_attribute("/observables", "floor_layer_temperature", overall.temperature[0]);
+  file.write_attribute("/observables", "dense_layer_temperature", overall.temperature[densest]);
+  spdlog::info("profiles over {} steps: densest layer at height {:.1f} of {} ({:.3g} n0, temperature {:.4g}); lowest "
+               "layer {:.3g} n0 at temperature {:.4g}",
+               sums.samples(), height, overall.density.size(), overall.density[densest] / n0,
+               overall.temperature[densest], overall.density[0] / n0, overall.temperature[0]);
+}
 
 }  // namespace granflow::srd

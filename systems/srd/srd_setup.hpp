@@ -152,6 +152,25 @@ std::vector<Wall> walls_from(const Config& c, const std::array<std::int32_t, D>&
   return walls;
 }
 
+// The walls of `c`, or where it gives none a resting pair across `axis`
+// (lower at 0, upper at the box's end) at srd.temperature, with ghost
+// particles or without.
+template <int D>
+std::vector<Wall> walls_or_pair_across(const Config& c, const std::array<std::int32_t, D>& cells, int axis, bool ghosts) {
+  auto walls = walls_from<D>(c, cells);
+  if (walls.empty())
+    for (int side : {-1, +1}) {
+      Wall w;
+      w.axis = axis;
+      w.side = side;
+      w.rest = side < 0 ? 0.0 : static_cast<double>(cells[axis]);
+      w.temperature = c.real("srd.temperature");
+      w.ghosts = ghosts;
+      walls.push_back(w);
+    }
+  return walls;
+}
+
 template <int D>
 std::array<double, D> acceleration_from(const Config& c) {
   const auto& g = c.reals("force.acceleration");

@@ -10,8 +10,11 @@
 //    beyond 1e-6 of the energy turned over means energy went unbooked.
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include "components/clock.hpp"
@@ -21,6 +24,7 @@
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
 #include "engine/world.hpp"
+#include "systems/srd/srd_cells.hpp"
 #include "systems/srd/srd_state_observer.hpp"
 
 namespace granflow::srd {
@@ -90,6 +94,21 @@ template <int D>
 void observe_state(Run& run, const TriggerPtr& when) {
   run.observe<SrdStateObserver<D>>(when);
   run.observe<SrdStateWatch>(when);
+}
+
+// Granular SRD is very compressible: the dense layer's pattern can coarsen
+// into one spot. Not a failure of the method, so a warning when the run ends,
+// once a cell holds more than 20 times the mean `n0`.
+template <int D>
+void warn_when_collapsed(Run& run, double n0) {
+  run.at_finish([&run, n0](H5mdFile&, const RunOutcome&) {
+    const auto& state = run.world().template resource<SrdCells<D>>();
+    const std::uint32_t peak = *std::max_element(state.count.begin(), state.count.end());
+    if (peak > 20.0 * n0)
+      spdlog::warn("the fluid has collapsed: one cell holds {} particles, {:.0f} times the mean; granular SRD's "
+                   "compressibility lets the dense layer's pattern coarsen into one spot",
+                   peak, peak / n0);
+  });
 }
 
 }  // namespace granflow::srd
