@@ -34,6 +34,7 @@
 #include "systems/dem/dem_setup.hpp"
 #include "systems/initial/stored_start.hpp"
 #include "systems/dem/height_profiles.hpp"
+#include "systems/initial/cubic_lattice.hpp"
 
 namespace granflow::scenarios {
 namespace {
@@ -57,25 +58,8 @@ void build(Run& run) {
   if (amplitude >= 0.25 * box[2])
     throw ConfigError(fmt::format("shaking.amplitude = {} exceeds a quarter of the box height (system.box z = {})",
                                   amplitude, box[2]));
-  const double omega = 2.0 * std::numbers::pi * c.real("shaking.frequency");
 
-  // Walls: the given list, or the box's six sides with the floor shaking.
-  std::vector<DemWall> walls = dem::walls_from(c, box);
-  if (walls.empty())
-    for (int axis = 0; axis < D; ++axis)
-      for (int side : {-1, +1}) {
-        DemWall w;
-        w.axis = axis;
-        w.side = side;
-        w.rest = side < 0 ? 0.0 : box[static_cast<std::size_t>(axis)];
-        w.law = law;
-        if (axis == 2 && side < 0) {
-          w.amplitude = amplitude;
-          w.omega = omega;
-          w.motion = dem::wall_motion(c.text("shaking.motion"));
-        }
-        walls.push_back(w);
-      }
+  std::vector<DemWall> walls = dem::walls_or_box_sides(c, box, {false, false, false}, law);
   DemWall divider;
   divider.divider = true;
   divider.axis = 0;
@@ -88,8 +72,8 @@ void build(Run& run) {
   // Spheres on a lattice from the floor up, alternately left and right.
   const double spacing = 2.2 * radius;
   const auto per_row = [&](double width) { return std::max(0, static_cast<int>(std::floor((width - 2 * radius) / spacing)) + 1); };
-  const int across_y = per_row(box[1]);
-  const std::array<int, 2> across_x{per_row(divider_x - 0.2 * radius), per_row(box[0] - divider_x - 0.2 * radius)};
+  const std::int64_t across_y = per_row(box[1]);
+  const std::array<std::int64_t, 2> across_x{per_row(divider_x - 0.2 * radius), per_row(box[0] - divider_x - 0.2 * radius)};
   // Above the floor's highest point (2A with the wiggle law).
   const double floor_clearance = (c.text("shaking.motion") == "wiggle" ? 2.0 : 1.0) * amplitude + 1.1 * radius;
   const auto layers_needed = [&](int side) {
@@ -101,42 +85,28 @@ void build(Run& run) {
   if (!stored && top > box[2] - radius)
     throw ConfigError(fmt::format("system.count = {} spheres of radius {} do not fit below the top of the box "
                                   "(system.box z = {})", n, radius, box[2]));
+  // Half of the spheres on each side (alternately), each half on a lattice from the floor up.
+  std::array<std::vector<Vec<D>>, 2> sites;
+  for (std::size_t side : {0u, 1u})
+    if (!stored)
+      sites[side] = cubic_sites({side == 0 ? radius + 0.1 * radius : divider_x + radius + 0.1 * radius, radius,
+                                 floor_clearance},
+                                spacing, {across_x[side], across_y}, (n + 1 - side) / 2);
   run.initial_state([&](World& world) {
     auto [x, v] = dem::add_spheres(world, n, radius, mass);
     if (stored) {
       place_stored_state<D>(world, box, {false, false, false}, stored_state_of(c), dem::stored_state_limits);
       return;
     }
-    std::array<std::size_t, 2> placed{};
     for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t side = i % 2;
-      const std::size_t k = placed[side]++;
-      const auto row = static_cast<std::size_t>(across_x[side]), cols = static_cast<std::size_t>(across_y);
-      const double x0 = side == 0 ? radius + 0.1 * radius : divider_x + radius + 0.1 * radius;
-      x[i] = Vec<D>(x0 + spacing * static_cast<double>(k % row), radius + spacing * static_cast<double>((k / row) % cols),
-                    floor_clearance + spacing * static_cast<double>(k / (row * cols)));
+      x[i] = sites[i % 2][i / 2];
       Philox random(stream::dem_initial, run.seed(), 0, i);
       for (int a = 0; a < D; ++a) v[i][a] = 0.1 * random.normal();
     }
   });
-  const double t_stop = c.real("run.t_stop");
-  const auto outputs = std::make_shared<EveryTime>(c.real("output.interval"), t_stop);
+  const auto outputs = std::make_shared<EveryTime>(c.real("output.interval"), c.real("run.t_stop"));
   const double dt = dem::add_dem_step(run, box, {false, false, false}, law, walls, dem::damping_key(c), outputs);
-  const auto counts = std::make_shared<dem::CompartmentCounts>();
-  counts->average_from = c.real("output.average_after");
-  if (counts->average_from >= t_stop)
-    throw ConfigError(fmt::format("output.average_after = {} leaves nothing to average before run.t_stop = {}",
-                                  counts->average_from, t_stop));
-  run.keep("compartments", *counts);
-  // Each sphere's side follows it when the neighbour lists reorder the spheres.
-  run.world().on_permute([counts](const std::vector<std::uint32_t>& order) {
-    if (counts->left.size() != order.size()) return;
-    std::vector<double> left(order.size());
-    for (std::size_t k = 0; k < order.size(); ++k) left[k] = counts->left[order[k]];
-    counts->left.swap(left);
-  });
-  run.observe<dem::CompartmentSampler<D>>(std::make_shared<EverySteps>(1), 0, divider_x, counts);
-  run.observe<dem::CompartmentObserver<D>>(outputs, 0, divider_x, counts);
+  dem::add_compartments<D>(run, outputs, divider_x, c.real("output.average_after"));
   dem::HeightProfileGeometry profile;
   profile.height = box[2];
   profile.layer = 2.0 * radius;
@@ -144,26 +114,8 @@ void build(Run& run) {
   profile.split_axis = 0;
   profile.split_at = divider_x;
   profile.area_right = (box[0] - divider_x) * box[1];
-  run.observe<dem::DemHeightProfiles<D>>(outputs, profile);
-  profile.average_from = counts->average_from;
-  const double sample_every = dem::profile_sample_interval(c.real("shaking.frequency"), c.real("output.interval"), dt);
-  auto& average = run.keep("height_profile_average", run.observe<dem::DemHeightProfileAverage<D>>(
-                                                         std::make_shared<EveryTime>(sample_every, t_stop), profile));
-  run.at_finish([&average](H5mdFile& file, const RunOutcome&) { average.write_means(file); });
-  run.at_finish([counts](H5mdFile& file, const RunOutcome&) {
-    const double samples = std::max(counts->samples, 1.0);
-    file.write_attribute("/observables", "asymmetry_time_mean", counts->sum / samples);
-    file.write_attribute("/observables", "asymmetry_abs_mean", counts->abs_sum / samples);
-    file.write_attribute("/observables", "crossings", counts->crossings);
-    const auto eggers = dem::fit_eggers_flux(counts->flux_samples);
-    file.write_attribute("/observables", "eggers_flux_A", eggers[0]);
-    file.write_attribute("/observables", "eggers_flux_B", eggers[1]);
-    spdlog::info("time average after the warm-up ({:.0f} outputs): a = {:.3f}, |a| = {:.3f}; {:.0f} crossings; {}",
-                 counts->samples, counts->sum / samples, counts->abs_sum / samples, counts->crossings,
-                 eggers[1] != 0.0 ? fmt::format("Eggers flux fit A = {:.3g}, B = {:.3g} (equal sharing is stable for "
-                                                "B < 4)", eggers[0], eggers[1])
-                                  : std::string("too few crossings to fit Eggers' flux model"));
-  });
+  profile.average_from = c.real("output.average_after");
+  dem::add_height_profiles<D>(run, outputs, profile, dt);
 }
 
 }  // namespace

@@ -34,6 +34,7 @@
 #include "engine/units.hpp"
 #include "systems/dem/dem_setup.hpp"
 #include "systems/dem/height_profiles.hpp"
+#include "systems/initial/cubic_lattice.hpp"
 #include "systems/initial/stored_start.hpp"
 
 namespace granflow::scenarios {
@@ -42,58 +43,24 @@ namespace {
 using dem::ContactLaw;
 using dem::DemWall;
 
-// The law of a contact of reduced mass m_eff: from contact.damping_rate
-// (gamma = m_eff gamma_n) where it is given, else from the restitution.
-ContactLaw law_for(const Config& c, double m_eff) {
-  ContactLaw law = dem::law_from(c, c.real("contact.stiffness"), c.real("contact.restitution"));
-  if (c.real("contact.damping_rate") > 0.0 && law.model == dem::ContactModel::lsd)
-    law.damping = m_eff * c.real("contact.damping_rate") / std::sqrt(m_eff * law.stiffness);
-  return law;
-}
-
 void build(Run& run) {
   constexpr int D = 3;
   const Config& c = run.config();
   const std::array<double, D> box = dem::box_from(c, "vibrated_bed");
   const double radius = c.real("particle.radius"), mass = c.real("particle.mass");
   dem::require_room(box, radius);
-  const ContactLaw law = law_for(c, 0.5 * mass);
-  std::vector<DemWall> walls = dem::walls_from(c, box);
-  if (walls.empty()) {
-    DemWall floor;
-    floor.axis = 2;
-    floor.side = -1;
-    floor.amplitude = c.real("shaking.amplitude");
-    floor.omega = 2.0 * std::numbers::pi * c.real("shaking.frequency");
-    floor.motion = dem::wall_motion(c.text("shaking.motion"));
-    floor.law = law_for(c, mass);
-    DemWall ceiling = floor;
-    ceiling.side = +1;
-    ceiling.rest = box[2];
-    ceiling.amplitude = 0.0;
-    walls = {floor, ceiling};
-  }
+  const ContactLaw law = dem::law_for_mass(c, 0.5 * mass);
+  const std::vector<DemWall> walls = dem::walls_or_box_sides(c, box, {true, true, false}, dem::law_for_mass(c, mass));
   const auto n = static_cast<std::size_t>(c.integer("system.count"));
   const bool stored = starts_from_stored_state(c);
   std::vector<Vec<D>> sites;
   if (!stored) {
-    // The lattice sites (a, b, k) * spacing inside the fill region, in order.
-    const double spacing = std::cbrt(1.0 / c.real("bed.lattice_density"));
     const auto& fill = c.reals("bed.fill");
     if (fill.size() != 6)
       throw ConfigError(fmt::format("bed.fill has {} entries; it needs [x0, x1, y0, y1, z0, z1]", fill.size()));
-    // The sites visited, counted before the loop that visits them.
-    double visits = 1.0;
-    for (std::size_t a = 1; a < 6; a += 2) visits *= std::max(0.0, std::floor(fill[a] / spacing)) + 1.0;
-    if (!(visits <= 1e8))
-      throw ConfigError(fmt::format("bed.lattice_density = {} over bed.fill gives {:.3g} lattice sites to visit; at "
-                                    "most 1e8", c.real("bed.lattice_density"), visits));
-    for (int k = 0; k * spacing < fill[5]; ++k)
-      for (int b = 0; b * spacing < fill[3]; ++b)
-        for (int a = 0; a * spacing < fill[1]; ++a) {
-          const Vec<D> p(a * spacing, b * spacing, k * spacing);
-          if (p[0] >= fill[0] && p[1] >= fill[2] && p[2] >= fill[4]) sites.push_back(p);
-        }
+    sites = cubic_sites_in({fill[0], fill[2], fill[4]}, {fill[1], fill[3], fill[5]},
+                           std::cbrt(1.0 / c.real("bed.lattice_density")),
+                           fmt::format("bed.lattice_density = {} over bed.fill", c.real("bed.lattice_density")));
     if (n > sites.size())
       throw ConfigError(fmt::format("system.count = {} exceeds the {} lattice sites of bed.fill at bed.lattice_density "
                                     "= {}", n, sites.size(), c.real("bed.lattice_density")));
@@ -115,24 +82,13 @@ void build(Run& run) {
     for (std::size_t i = 0; i < n; ++i) v[i] -= mean;
   });
   const auto outputs = std::make_shared<EveryTime>(c.real("output.interval"), c.real("run.t_stop"));
-  const std::string damping = c.real("contact.damping_rate") > 0.0 && law.model == dem::ContactModel::lsd
-                                  ? "contact.damping_rate" : dem::damping_key(c);
-  const double dt = dem::add_dem_step(run, box, {true, true, false}, law, walls, damping, outputs);
+  const double dt = dem::add_dem_step(run, box, {true, true, false}, law, walls, dem::damping_key(c), outputs);
   dem::HeightProfileGeometry profile;
   profile.height = box[2];
   profile.layer = 2.0 * radius;
   profile.area = box[0] * box[1];
-  run.observe<dem::DemHeightProfiles<D>>(outputs, profile);
   profile.average_from = c.real("output.average_after");
-  const double sample_every = dem::profile_sample_interval(c.real("shaking.frequency"), c.real("output.interval"), dt);
-  auto& average = run.keep("height_profile_average",
-                           run.observe<dem::DemHeightProfileAverage<D>>(
-                               std::make_shared<EveryTime>(sample_every, c.real("run.t_stop")), profile));
-  run.at_finish([&average](H5mdFile& file, const RunOutcome&) {
-    if (average.samples() == 0)
-      spdlog::info("nothing sampled at or after output.average_after: no time-averaged height profiles");
-    average.write_means(file);
-  });
+  dem::add_height_profiles<D>(run, outputs, profile, dt);
 }
 
 }  // namespace

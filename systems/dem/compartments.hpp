@@ -6,16 +6,23 @@
 // writes the crossings since its last output, and keeps the time averages
 // of a and |a| over the outputs after a warm-up (the sweep's summary).
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <memory>
+#include <string>
 #include <stdexcept>
 #include <vector>
 
 #include "components/clock.hpp"
 #include "components/position.hpp"
+#include "engine/config.hpp"
+#include "engine/h5md_file.hpp"
 #include "engine/observable_store.hpp"
+#include "engine/run.hpp"
 #include "engine/state_map.hpp"
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
@@ -166,5 +173,45 @@ class CompartmentObserver : public System {
   double position_;
   std::shared_ptr<CompartmentCounts> counts_;
 };
+
+// The compartments left and right of a divider at x = `divider_x`: sampled
+// every step, written at every output (CompartmentObserver), their
+// asymmetry and flux averaged from `average_from` on and summarised when the
+// run ends (asymmetry_time_mean, asymmetry_abs_mean, crossings, Eggers'
+// flux fit eggers_flux_A and eggers_flux_B). Kept in checkpoints as
+// "compartments".
+template <int D>
+void add_compartments(Run& run, const TriggerPtr& outputs, double divider_x, double average_from) {
+  const double t_stop = run.config().real("run.t_stop");
+  if (average_from >= t_stop)
+    throw ConfigError(fmt::format("output.average_after = {} leaves nothing to average before run.t_stop = {}",
+                                  average_from, t_stop));
+  const auto counts = std::make_shared<CompartmentCounts>();
+  counts->average_from = average_from;
+  run.keep("compartments", *counts);
+  // Each sphere's side follows it when the neighbour lists reorder the spheres.
+  run.world().on_permute([counts](const std::vector<std::uint32_t>& order) {
+    if (counts->left.size() != order.size()) return;
+    std::vector<double> left(order.size());
+    for (std::size_t k = 0; k < order.size(); ++k) left[k] = counts->left[order[k]];
+    counts->left.swap(left);
+  });
+  run.observe<CompartmentSampler<D>>(std::make_shared<EverySteps>(1), 0, divider_x, counts);
+  run.observe<CompartmentObserver<D>>(outputs, 0, divider_x, counts);
+  run.at_finish([counts](H5mdFile& file, const RunOutcome&) {
+    const double samples = std::max(counts->samples, 1.0);
+    file.write_attribute("/observables", "asymmetry_time_mean", counts->sum / samples);
+    file.write_attribute("/observables", "asymmetry_abs_mean", counts->abs_sum / samples);
+    file.write_attribute("/observables", "crossings", counts->crossings);
+    const auto eggers = fit_eggers_flux(counts->flux_samples);
+    file.write_attribute("/observables", "eggers_flux_A", eggers[0]);
+    file.write_attribute("/observables", "eggers_flux_B", eggers[1]);
+    spdlog::info("time average after the warm-up ({:.0f} outputs): a = {:.3f}, |a| = {:.3f}; {:.0f} crossings; {}",
+                 counts->samples, counts->sum / samples, counts->abs_sum / samples, counts->crossings,
+                 eggers[1] != 0.0 ? fmt::format("Eggers flux fit A = {:.3g}, B = {:.3g} (equal sharing is stable for "
+                                                "B < 4)", eggers[0], eggers[1])
+                                  : std::string("too few crossings to fit Eggers' flux model"));
+  });
+}
 
 }  // namespace granflow::dem

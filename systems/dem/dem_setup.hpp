@@ -125,8 +125,16 @@ inline std::array<double, 3> box_from(const Config& c, const char* scenario) {
 
 inline WallMotion wall_motion(const std::string& name) { return name == "wiggle" ? WallMotion::wiggle : WallMotion::sine; }
 
+// Whether contact.damping_rate (where the scenario has it) sets the damping
+// of the spring-dashpot law instead of contact.restitution.
+inline bool damped_at_rate(const Config& c) {
+  return c.values().count("contact.damping_rate") && c.real("contact.damping_rate") > 0.0 &&
+         c.text("contact.model") != "hertz";
+}
+
 // The key that sets the pairs' damping under contact.model.
 inline std::string damping_key(const Config& c) {
+  if (damped_at_rate(c)) return "contact.damping_rate";
   return c.text("contact.model") == "hertz" ? "contact.hertz_damping" : "contact.restitution";
 }
 
@@ -167,6 +175,41 @@ inline std::vector<DemWall> walls_from(const Config& c, const std::array<double,
                      t.real("restitution") > 0 ? t.real("restitution") : c.real("contact.restitution"));
     walls.push_back(w);
   }
+  return walls;
+}
+
+// The pair law of contact.model with contact.damping_rate, LAMMPS's
+// gamma_n (a damping force m_eff gamma_n times the normal speed), for
+// contacts of reduced mass `m_eff`, where the scenario has that key and it
+// is positive; else the law of contact.restitution (law_from).
+inline ContactLaw law_for_mass(const Config& c, double m_eff) {
+  ContactLaw law = law_from(c, c.real("contact.stiffness"), c.real("contact.restitution"));
+  if (damped_at_rate(c)) law.damping = m_eff * c.real("contact.damping_rate") / std::sqrt(m_eff * law.stiffness);
+  return law;
+}
+
+// The walls of the `walls` list, or where it gives none a wall on both
+// sides of every axis not in `periodic`, the floor (lower z) moving as
+// shaking.* say, every one with contact law `law`.
+inline std::vector<DemWall> walls_or_box_sides(const Config& c, const std::array<double, 3>& box,
+                                               const std::array<bool, 3>& periodic, const ContactLaw& law) {
+  std::vector<DemWall> walls = walls_from(c, box);
+  if (!walls.empty()) return walls;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side : {-1, +1}) {
+      if (periodic[static_cast<std::size_t>(axis)]) continue;
+      DemWall w;
+      w.axis = axis;
+      w.side = side;
+      w.rest = side < 0 ? 0.0 : box[static_cast<std::size_t>(axis)];
+      w.law = law;
+      if (axis == 2 && side < 0) {
+        w.amplitude = c.real("shaking.amplitude");
+        w.omega = 2.0 * std::numbers::pi * c.real("shaking.frequency");
+        w.motion = wall_motion(c.text("shaking.motion"));
+      }
+      walls.push_back(w);
+    }
   return walls;
 }
 

@@ -16,6 +16,8 @@
 // (height_profile_layer, ..._samples, ..._average_from). Its sums are kept
 // in checkpoints.
 
+#include <spdlog/spdlog.h>
+
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -28,6 +30,7 @@
 #include "components/velocity.hpp"
 #include "engine/h5md_file.hpp"
 #include "engine/observable_store.hpp"
+#include "engine/run.hpp"
 #include "engine/state_map.hpp"
 #include "engine/system.hpp"
 #include "engine/system_catalogue.hpp"
@@ -199,5 +202,24 @@ class DemHeightProfileAverage : public System, public Stateful {
   std::vector<double> sums_;
   std::uint64_t samples_ = 0;
 };
+
+// The height profiles of `geometry` at every output, and their time average
+// from `geometry.average_from` on, sampled several times per shaking period
+// (profile_sample_interval; kept in checkpoints as "height_profile_average")
+// and written when the run ends.
+template <int D>
+void add_height_profiles(Run& run, const TriggerPtr& outputs, const HeightProfileGeometry& geometry, double dt) {
+  const Config& c = run.config();
+  run.observe<DemHeightProfiles<D>>(outputs, geometry);
+  const double sample_every = profile_sample_interval(c.real("shaking.frequency"), c.real("output.interval"), dt);
+  auto& average = run.keep("height_profile_average",
+                           run.observe<DemHeightProfileAverage<D>>(
+                               std::make_shared<EveryTime>(sample_every, c.real("run.t_stop")), geometry));
+  run.at_finish([&average](H5mdFile& file, const RunOutcome&) {
+    if (average.samples() == 0)
+      spdlog::info("nothing sampled at or after output.average_after: no time-averaged height profiles");
+    average.write_means(file);
+  });
+}
 
 }  // namespace granflow::dem
