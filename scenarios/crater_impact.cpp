@@ -24,8 +24,6 @@
 // suggests without collapsing; an actual collapse still stops the run when
 // time stops advancing.
 
-#include "scenarios/crater_impact.hpp"
-
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -36,62 +34,15 @@
 #include "engine/output_times.hpp"
 #include "engine/run.hpp"
 #include "engine/scenario.hpp"
+#include "systems/edmd/crater_bed.hpp"
 #include "systems/edmd/event_driven_run.hpp"
 #include "systems/edmd/gas_setup.hpp"
-#include "systems/edmd/melted_lattice.hpp"
 #include "systems/observables/collisions_per_particle.hpp"
 #include "systems/observables/crater.hpp"
 #include "systems/observables/kinetic_energy.hpp"
 #include "systems/observables/particle_frames.hpp"
 
 namespace granflow::scenarios {
-
-double bed_radius(const Config& config) {
-  const double area = config.real("bed.height");  // the box is 1 wide
-  return std::sqrt(config.real("bed.packing_fraction") * area /
-                   (static_cast<double>(config.integer("system.count")) * std::numbers::pi));
-}
-
-void build_crater(World& world, const Config& config, const Preparation& preparation) {
-  const auto count = static_cast<std::size_t>(config.integer("system.count"));
-  const double r0 = bed_radius(config);
-  const double big = config.real("projectile.radius_ratio") * r0;
-  const double x = config.real("projectile.x"), y = config.real("projectile.y");
-  const double height = config.real("bed.height");
-  if (x - big < 0 || x + big > 1 || y + big > 1 || y - big < height)
-    throw ConfigError(fmt::format("projectile of radius {:.4g} at ({}, {}) must lie inside the box and above the bed "
-                                  "(bed.height = {}); change projectile.x/y or projectile.radius_ratio",
-                                  big, x, y, height));
-  world.resize(count + 1);
-  Box<2> box;
-  box.length.fill(1.0);
-  box.periodic.fill(false);
-  world.emplace_resource<Box<2>>(box);
-  auto& mass = world.add_component<Mass>();
-  auto& radius = world.add_component<Radius>();
-  auto& species = world.add_component<Species>();
-  auto& position = world.add_component<Position<2>>();
-  auto& velocity = world.add_component<Velocity<2>>();
-  Box<2> bed_region;
-  bed_region.length = {1.0, height};
-  bed_region.periodic.fill(false);
-  edmd::check_equilibration_length<2>(bed_region, count, r0, config.real("system.mass"), 1.0,
-                                      config.real("bed.melt_collisions"),
-                                      "bed.melt_collisions, bed.packing_fraction or system.count");
-  const auto bed = place_melted_lattice(count, r0, 1.0, height, config.real("bed.melt_collisions"),
-                                        static_cast<std::uint64_t>(config.integer("run.seed")), preparation);
-  for (std::size_t i = 0; i < count; ++i) {
-    mass[i] = config.real("system.mass");
-    radius[i] = r0;
-    position[i] = bed[i];
-    velocity[i].setZero();
-  }
-  mass[count] = config.real("projectile.mass_ratio") * config.real("system.mass");
-  radius[count] = big;
-  species[count] = 1;
-  position[count] = Vec<2>(x, y);
-  velocity[count] = Vec<2>(0.0, -config.real("projectile.speed"));
-}
 
 namespace {
 
@@ -123,9 +74,9 @@ void declare_keys(ConfigSchema& s) {
 
 void build(Run& run) {
   const Config& c = run.config();
-  const double r0 = bed_radius(c);
+  const double r0 = edmd::bed_radius(c);
   run.initial_state([&](World& world) {
-    build_crater(world, c, run.preparation("setup"));
+    edmd::build_crater(world, c, run.preparation("setup"));
     run.derive("bed_radius", r0);
     run.derive("projectile_radius", c.real("projectile.radius_ratio") * r0);
     run.derive("initial_kinetic_energy", total_kinetic_energy<2>(world));

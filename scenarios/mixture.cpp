@@ -17,7 +17,7 @@
 #include "components/species.hpp"
 #include "engine/input_error.hpp"
 #include "engine/scenario.hpp"
-#include "scenarios/speed_study.hpp"
+#include "systems/observables/speed_study.hpp"
 #include "systems/initial/stored_start.hpp"
 
 namespace granflow::scenarios {

@@ -1,34 +1,19 @@
 #include "scenarios/scattering.hpp"
 
 #include <fmt/format.h>
-#include <spdlog/spdlog.h>
-
-#include <algorithm>
-#include <cmath>
-#include <numbers>
 
 #include "components/mass.hpp"
 #include "components/position.hpp"
 #include "components/radius.hpp"
 #include "components/velocity.hpp"
-#include "engine/h5md_file.hpp"
 #include "engine/run.hpp"
 #include "engine/runner.hpp"
 #include "engine/scenario.hpp"
-#include "engine/units.hpp"
 #include "systems/edmd/event_driven_run.hpp"
 #include "systems/observables/scattering_angle.hpp"
+#include "systems/observables/scattering_scan.hpp"
 
 namespace granflow::scenarios {
-
-double analytic_scattering_angle(double ratio, double m1, double m2, double restitution) {
-  if (ratio >= 1.0) return 0.0;
-  // Unit vector from the small particle's centre to the large one's at contact.
-  const double nx = std::sqrt(1.0 - ratio * ratio), ny = -ratio;
-  const double push = (1.0 + restitution) * m1 / (m1 + m2) * nx;  // (v . n) with v = (1, 0)
-  const double vx = 1.0 - push * nx, vy = -push * ny;
-  return std::atan2(std::abs(vy), vx);
-}
 
 namespace {
 
@@ -79,30 +64,9 @@ std::vector<ScatteringPoint> points_of(const EnsembleResults& results) {
 }
 
 void reduce(const EnsembleResults& results, H5mdFile& file) {
-  std::vector<double> ratio, angle, analytic;
-  double worst = 0.0;
-  for (const auto& p : points_of(results)) {
-    ratio.push_back(p.impact_ratio);
-    angle.push_back(p.angle);
-    analytic.push_back(p.analytic);
-    worst = std::max(worst, std::abs(p.angle - p.analytic));
-  }
-  file.write_result("impact_parameter_ratio", ratio, unit::none);
-  file.write_result("scattering_angle", angle, unit::angle);
-  file.write_result("scattering_angle_analytic", analytic, unit::angle);
-  // The analytic curve on a fine grid, for drawing it between the scan's points.
   const Config& c = results.config;
-  const double largest = ratio.empty() ? 1.0 : *std::max_element(ratio.begin(), ratio.end());
-  std::vector<double> fine_ratio, fine_angle;
-  for (int k = 0; k <= 1000; ++k) {
-    fine_ratio.push_back(largest * k / 1000.0);
-    fine_angle.push_back(analytic_scattering_angle(fine_ratio.back(), c.real("target.mass"), c.real("projectile.mass"),
-                                                   c.real("collision.restitution")));
-  }
-  file.write_result("analytic_curve_impact_parameter_ratio", fine_ratio, unit::none);
-  file.write_result("analytic_curve_scattering_angle", fine_angle, unit::angle);
-  file.write_attribute("/observables", "largest_deviation_rad", worst);
-  spdlog::info("{} impact parameters, largest deviation from the analytic angle {:.3g} rad", ratio.size(), worst);
+  write_scattering_scan(file, points_of(results), c.real("target.mass"), c.real("projectile.mass"),
+                        c.real("collision.restitution"));
 }
 
 void declare_keys(ConfigSchema& s) {

@@ -4,7 +4,7 @@
 // particle apart (Poeschel & Schwager 2005).
 
 #include "engine/scenario.hpp"
-#include "scenarios/speed_study.hpp"
+#include "systems/observables/speed_study.hpp"
 
 namespace granflow::scenarios {
 

@@ -12,12 +12,14 @@
 #include "tests/scenario_schema.hpp"
 #include "components/mass.hpp"
 #include "components/velocity.hpp"
-#include "scenarios/crater_impact.hpp"
+#include "systems/edmd/crater_bed.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/observables/kinetic_energy.hpp"
 
 namespace granflow::scenarios {
 namespace {
+
+using edmd::build_crater;
 
 TEST(CraterImpact, CollisionsConserveMomentumAndAccountForEveryJoule) {
   Config config(scenario_schema("crater_impact"));

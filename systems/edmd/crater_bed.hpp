@@ -1,11 +1,13 @@
 #pragma once
-// Scenario `crater_impact`: see scenarios/crater_impact.cpp.
+// The crater problem's initial state: N equal disks of a melted lattice
+// filling y < bed.height of a reflecting unit box at bed.packing_fraction,
+// at rest, and a projectile above them moving straight down.
 
 #include "engine/config.hpp"
 #include "engine/preparation.hpp"
 #include "engine/world.hpp"
 
-namespace granflow::scenarios {
+namespace granflow::edmd {
 
 // The bed (ids 0..N-1, species 0, at rest) and the projectile (id N, species
 // 1) in a reflecting unit box, as the run starts; `preparation` hears how far
@@ -14,4 +16,4 @@ void build_crater(World& world, const Config& config, const Preparation& prepara
 // Radius of the bed disks that gives bed.packing_fraction.
 double bed_radius(const Config& config);
 
-}  // namespace granflow::scenarios
+}  // namespace granflow::edmd

@@ -15,7 +15,7 @@
 #include "systems/observables/maxwell_boltzmann.hpp"
 #include "systems/observables/speed_samples.hpp"
 
-namespace granflow::scenarios {
+namespace granflow {
 
 struct SpeedReport {
   SpeedSummary measured;
@@ -55,4 +55,4 @@ SpeedReport write_speed_histogram(H5mdFile& file, const std::string& name, const
   return report;
 }
 
-}  // namespace granflow::scenarios
+}  // namespace granflow

@@ -18,17 +18,17 @@
 #include "components/species.hpp"
 #include "engine/output_times.hpp"
 #include "engine/run.hpp"
-#include "scenarios/speed_output.hpp"
 #include "systems/edmd/event_driven_run.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/observables/collisions_per_particle.hpp"
 #include "systems/observables/kinetic_energy.hpp"
 #include "systems/observables/particle_frames.hpp"
 #include "systems/observables/species_kinetic_energy.hpp"
+#include "systems/observables/speed_histogram_output.hpp"
 #include "systems/observables/speed_samples.hpp"
 #include "systems/observables/speed_snapshot_observer.hpp"
 
-namespace granflow::scenarios {
+namespace granflow {
 
 struct SamplingDefaults {
   double equilibration_collisions = 20.0;
@@ -163,4 +163,4 @@ void build_speed_study(Run& run, const std::vector<std::string>& species_names,
   });
 }
 
-}  // namespace granflow::scenarios
+}  // namespace granflow
