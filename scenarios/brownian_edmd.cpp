@@ -13,7 +13,6 @@
 
 #include "scenarios/brownian_edmd.hpp"
 
-#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <cmath>
@@ -39,10 +38,9 @@ namespace {
 void build(Run& run) {
   constexpr int D = 3;
   const Config& c = run.config();
-  if (c.integer("system.dimension") != 3)
-    throw ConfigError("brownian_edmd: system.dimension must be 3 (the theory is that of the 3D gas)");
-  if (c.text("system.boundary") != "periodic")
-    throw ConfigError("brownian_edmd: system.boundary must be periodic (displacements are unwrapped through images)");
+  if (c.integer("system.dimension") != 3 || c.text("system.boundary") != "periodic")
+    throw ConfigError("brownian_edmd needs system.dimension = 3 (the theory is that of the 3D gas) and "
+                      "system.boundary = \"periodic\" (displacements are unwrapped through images)");
   run.initial_state([&](World& world) {
     edmd::build_gas<D>(world, c, run.seed(), {}, run.preparation("setup"));
     world.add_component<ImageCount<D>>().values.assign(world.size(), Eigen::Matrix<std::int32_t, D, 1>::Zero());
@@ -71,8 +69,7 @@ void write(const EdmdMsdResult& r, H5mdFile& file) {
   file.write_attribute("/parameters/derived", "gamma0", r.enskog.gamma0);
   file.write_attribute("/parameters/derived", "haff_tau0", r.enskog.tau0);
   file.write_attribute("/observables", "long_time_slope", r.long_time_slope);
-  spdlog::info("MSD({}) = {:.5g} +- {:.2g} (theory {:.5g}); slope over the last decade {:.4f} = {:.4f} x 6 D0 "
-               "(Enskog)",
+  spdlog::info("MSD({}) = {:.5g} +- {:.2g} (theory {:.5g}); slope over the last decade {:.4f} = {:.4f} x 6 D0 (Enskog)",
                r.time.back(), r.msd.back(), r.msd_stderr.back(), r.msd_theory.back(), r.long_time_slope,
                r.long_time_slope / (6 * r.enskog.diffusivity0));
 }
@@ -89,23 +86,13 @@ void declare_keys(ConfigSchema& s) {
   declare_msd_keys(s, MsdDefaults{0, 0.05});
 }
 
-// Event-driven dynamics is deterministic: runs started from one stored
-// state would repeat each other, so a stored start is one run.
-void adopt_stored_gas(Config& config) {
-  if (starts_from_stored_state(config) && config.integer("run.runs") != 1)
-    throw ConfigError(fmt::format("initial.from with run.runs = {}: every run would start from the same stored state "
-                                  "and, the dynamics being deterministic, repeat it; set run.runs = 1",
-                                  config.integer("run.runs")));
-  adopt_stored_state(config);
-}
-
 const Scenario brownian_edmd{
     .name = "brownian_edmd",
     .summary = "MSD, diffusivity and time-averaged MSD of the event-driven gas against Enskog theory",
     .default_output = "brownian_edmd.h5md",
     .keys = declare_keys,
     .build = build,
-    .adopt = adopt_stored_gas,
+    .adopt = adopt_stored_state_as_one_run,
     .members = ensemble_members,
     .reduce = [](const EnsembleResults& results, H5mdFile& file) { write(reduce_edmd_msd(results), file); },
 };

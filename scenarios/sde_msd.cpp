@@ -34,16 +34,7 @@ namespace granflow::scenarios {
 namespace {
 
 void declare_keys(ConfigSchema& s, bool scaled) {
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  s.integer("system.dimension", 3, 1, 3, "number of Cartesian components per particle")
-      .integer("system.count", 1000, 1, 100000000, "particles per run (independent, all start at the origin)")
-      .choice("initial.velocity", "stationary", {"stationary", "fixed_speed"},
-              "stationary: Gaussian with the variance the noise sustains at t = 0; fixed_speed: |v| = "
-              "initial.speed in random directions (as the hard-sphere gas starts)")
-      .real("initial.speed", std::sqrt(2.0), 0.0, inf, "initial speed (fixed_speed)")
-      .real("run.t_stop", 100.0, 0.0, inf, "stop time", true)
-      .real("output.first", 0.01, 0.0, inf, "first output time after t = 0", true)
-      .integer("output.points_per_decade", 10, 1, 1000, "log-spaced outputs per decade");
+  sde::declare_ensemble_keys(s);
   sde::declare_sde_model_keys(s, scaled);
   sde::declare_sde_step_keys(s);
   declare_ensemble_keys(s, 4);

@@ -10,20 +10,14 @@
 // contact count and coordination number.
 
 #include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
-#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <numbers>
 #include <vector>
 
-#include "components/force.hpp"
-#include "components/mass.hpp"
 #include "components/position.hpp"
-#include "components/radius.hpp"
 #include "components/velocity.hpp"
 #include "engine/rng.hpp"
 #include "engine/run.hpp"
@@ -32,9 +26,9 @@
 #include "engine/units.hpp"
 #include "systems/dem/compartments.hpp"
 #include "systems/dem/dem_setup.hpp"
+#include "systems/dem/divided_bed.hpp"
 #include "systems/initial/stored_start.hpp"
 #include "systems/dem/height_profiles.hpp"
-#include "systems/initial/cubic_lattice.hpp"
 
 namespace granflow::scenarios {
 namespace {
@@ -60,38 +54,13 @@ void build(Run& run) {
                                   amplitude, box[2]));
 
   std::vector<DemWall> walls = dem::walls_or_box_sides(c, box, {false, false, false}, law);
-  DemWall divider;
-  divider.divider = true;
-  divider.axis = 0;
-  divider.height_axis = 2;
-  divider.rest = divider_x;
-  divider.top = c.real("divider.height");
-  divider.law = law;
-  if (divider.top > 0.0) walls.push_back(divider);
+  if (c.real("divider.height") > 0.0) walls.push_back(dem::divider_wall(0, divider_x, 2, c.real("divider.height"), law));
 
-  // Spheres on a lattice from the floor up, alternately left and right.
-  const double spacing = 2.2 * radius;
-  const auto per_row = [&](double width) { return std::max(0, static_cast<int>(std::floor((width - 2 * radius) / spacing)) + 1); };
-  const std::int64_t across_y = per_row(box[1]);
-  const std::array<std::int64_t, 2> across_x{per_row(divider_x - 0.2 * radius), per_row(box[0] - divider_x - 0.2 * radius)};
-  // Above the floor's highest point (2A with the wiggle law).
-  const double floor_clearance = (c.text("shaking.motion") == "wiggle" ? 2.0 : 1.0) * amplitude + 1.1 * radius;
-  const auto layers_needed = [&](int side) {
-    const double per_layer = static_cast<double>(across_x[static_cast<std::size_t>(side)] * across_y);
-    return per_layer > 0 ? std::ceil((static_cast<double>(n) / 2 + 1) / per_layer) : 1e300;
-  };
-  const double top = floor_clearance + spacing * std::max(layers_needed(0), layers_needed(1));
   const bool stored = starts_from_stored_state(c);
-  if (!stored && top > box[2] - radius)
-    throw ConfigError(fmt::format("system.count = {} spheres of radius {} do not fit below the top of the box "
-                                  "(system.box z = {})", n, radius, box[2]));
-  // Half of the spheres on each side (alternately), each half on a lattice from the floor up.
-  std::array<std::vector<Vec<D>>, 2> sites;
-  for (std::size_t side : {0u, 1u})
-    if (!stored)
-      sites[side] = cubic_sites({side == 0 ? radius + 0.1 * radius : divider_x + radius + 0.1 * radius, radius,
-                                 floor_clearance},
-                                spacing, {across_x[side], across_y}, (n + 1 - side) / 2);
+  std::vector<Vec<D>> sites;  // alternately left and right, from the floor up
+  if (!stored)
+    sites = dem::divided_bed_sites(box, divider_x, n, radius,
+                                   (c.text("shaking.motion") == "wiggle" ? 2.0 : 1.0) * amplitude);
   run.initial_state([&](World& world) {
     auto [x, v] = dem::add_spheres(world, n, radius, mass);
     if (stored) {
@@ -99,7 +68,7 @@ void build(Run& run) {
       return;
     }
     for (std::size_t i = 0; i < n; ++i) {
-      x[i] = sites[i % 2][i / 2];
+      x[i] = sites[i];
       Philox random(stream::dem_initial, run.seed(), 0, i);
       for (int a = 0; a < D; ++a) v[i][a] = 0.1 * random.normal();
     }

@@ -13,21 +13,14 @@
 // granular temperature against height.
 
 #include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include <array>
-#include <cmath>
 #include <limits>
 #include <memory>
-#include <numbers>
 #include <vector>
 
-#include "components/force.hpp"
-#include "components/mass.hpp"
 #include "components/position.hpp"
-#include "components/radius.hpp"
 #include "components/velocity.hpp"
-#include "engine/rng.hpp"
 #include "engine/run.hpp"
 #include "engine/scenario.hpp"
 #include "engine/stream_ids.hpp"
@@ -35,6 +28,7 @@
 #include "systems/dem/dem_setup.hpp"
 #include "systems/dem/height_profiles.hpp"
 #include "systems/initial/cubic_lattice.hpp"
+#include "systems/initial/initial_velocities.hpp"
 #include "systems/initial/stored_start.hpp"
 
 namespace granflow::scenarios {
@@ -72,14 +66,8 @@ void build(Run& run) {
       place_stored_state<D>(world, box, {true, true, false}, stored_state_of(c), dem::stored_state_limits);
       return;
     }
-    Vec<D> mean = Vec<D>::Zero();
-    for (std::size_t i = 0; i < n; ++i) {
-      x[i] = sites[i];
-      Philox random(stream::dem_initial, run.seed(), 0, i);
-      for (int a = 0; a < D; ++a) v[i][a] = std::sqrt(temperature / mass) * random.normal();
-      mean += v[i] / static_cast<double>(n);
-    }
-    for (std::size_t i = 0; i < n; ++i) v[i] -= mean;
+    for (std::size_t i = 0; i < n; ++i) x[i] = sites[i];
+    draw_thermal_velocities<D>(v.values, temperature, mass, stream::dem_initial, run.seed());
   });
   const auto outputs = std::make_shared<EveryTime>(c.real("output.interval"), c.real("run.t_stop"));
   const double dt = dem::add_dem_step(run, box, {true, true, false}, law, walls, dem::damping_key(c), outputs);

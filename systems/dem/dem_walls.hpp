@@ -39,6 +39,18 @@ struct DemWall {
   GRANFLOW_HD double centre() const { return motion == WallMotion::sine ? rest : rest + amplitude; }
 };
 
+// A divider across `axis` at `position`, from 0 up to `top` along `height_axis`.
+inline DemWall divider_wall(int axis, double position, int height_axis, double top, const ContactLaw& law) {
+  DemWall w;
+  w.divider = true;
+  w.axis = axis;
+  w.height_axis = height_axis;
+  w.rest = position;
+  w.top = top;
+  w.law = law;
+  return w;
+}
+
 // A sphere's contact with a wall: overlap, unit normal (pointing from the
 // wall to the sphere: the direction of the force on it) and the rate at
 // which the overlap grows.

@@ -49,6 +49,22 @@ std::vector<Vec<D>> maxwell_boltzmann_velocities(const std::vector<double>& mass
   return v;
 }
 
+// Gaussian velocities of variance kT / m per component (stream `stream` of
+// `seed`, one substream per particle), their mean then subtracted (the
+// energy is left as it comes).
+template <int D>
+void draw_thermal_velocities(std::vector<Vec<D>>& velocity, double temperature, double mass, std::uint32_t stream,
+                             std::uint64_t seed) {
+  const auto n = static_cast<double>(velocity.size());
+  Vec<D> mean = Vec<D>::Zero();
+  for (std::size_t i = 0; i < velocity.size(); ++i) {
+    Philox random(stream, seed, 0, i);
+    for (int a = 0; a < D; ++a) velocity[i][a] = std::sqrt(temperature / mass) * random.normal();
+    mean += velocity[i] / n;
+  }
+  for (auto& v : velocity) v -= mean;
+}
+
 // Removes the centre-of-mass velocity (a periodic gas keeps it forever), then rescales so
 // the total kinetic energy is what it was before.
 template <int D>

@@ -116,6 +116,17 @@ inline void adopt_stored_state(Config& config) {
     if (config.schema().find(key)) config.set(key, uniform(s.mass, "masses", key, s));
 }
 
+// The same for an ensemble of deterministic runs (event-driven dynamics):
+// runs started from one stored state would repeat each other, so a stored
+// start is one run (run.runs = 1), anything else refused.
+inline void adopt_stored_state_as_one_run(Config& config) {
+  if (starts_from_stored_state(config) && config.integer("run.runs") != 1)
+    throw ConfigError(fmt::format("initial.from with run.runs = {}: every run would start from the same stored state "
+                                  "and, the dynamics being deterministic, repeat it; set run.runs = 1",
+                                  config.integer("run.runs")));
+  adopt_stored_state(config);
+}
+
 // How far a stored state may depart from a hard-sphere one: soft spheres
 // (DEM) may overlap a little and rest against walls inside the box.
 struct StoredStateLimits {
