@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/runner.hpp"
+#include "engine/run/runner.hpp"
 #include "tests/scenario_schema.hpp"
 
 namespace {

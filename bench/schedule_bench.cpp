@@ -16,7 +16,7 @@
 #include <memory>
 
 #include "components/clock.hpp"
-#include "engine/run.hpp"
+#include "engine/run/run.hpp"
 #include "systems/sde/sde_step.hpp"
 #include "systems/sde/sde_theory.hpp"
 

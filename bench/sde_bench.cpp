@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "components/clock.hpp"
-#include "engine/run_control.hpp"
+#include "engine/run/run_control.hpp"
 #include "systems/sde/sde_step.hpp"
 #include "systems/sde/sde_theory.hpp"
 

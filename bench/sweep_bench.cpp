@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/sweep_plan.hpp"
-#include "engine/sweep_runner.hpp"
+#include "engine/app/sweep_plan.hpp"
+#include "engine/app/sweep_runner.hpp"
 
 namespace {
 

@@ -2,7 +2,7 @@
 // Per-particle angular velocity of a rotating sphere (three components; only
 // soft spheres with tangential friction carry it).
 #include "components/vector.hpp"
-#include "engine/world.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow {
 struct AngularVelocity : Column<Vec<3>> {

@@ -2,7 +2,7 @@
 // Number of events that changed the particle's velocity; a prediction made against a partner is valid only while the partner's count is unchanged.
 #include <cstdint>
 
-#include "engine/world.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow {
 struct CollisionCount : Column<std::uint32_t> {

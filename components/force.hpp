@@ -2,7 +2,7 @@
 // The force on each particle at the current positions and velocities
 // (soft-sphere contacts, walls, gravity), for the next kick.
 #include "components/vector.hpp"
-#include "engine/world.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow {
 template <int D>

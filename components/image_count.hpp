@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-#include "engine/world.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow {
 template <int D>

@@ -2,7 +2,7 @@
 // Time of the particle's last collision, for the TC model.
 #include <cstdint>
 
-#include "engine/world.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow {
 struct LastCollisionTime : Column<double> {

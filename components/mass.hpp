@@ -2,7 +2,7 @@
 // Inertial mass.
 #include <cstdint>
 
-#include "engine/world.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow {
 struct Mass : Column<double> {

@@ -2,7 +2,7 @@
 // Stable particle identity; storage order changes when particles are sorted in space.
 #include <cstdint>
 
-#include "engine/world.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow {
 struct ParticleId : Column<std::uint32_t> {

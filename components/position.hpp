@@ -1,7 +1,7 @@
 #pragma once
 // Per-particle positions, wrapped into the box; up to date after an engine synchronises.
 #include "components/vector.hpp"
-#include "engine/world.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow {
 template <int D>

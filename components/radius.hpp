@@ -2,7 +2,7 @@
 // Hard-core radius.
 #include <cstdint>
 
-#include "engine/world.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow {
 struct Radius : Column<double> {

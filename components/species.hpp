@@ -2,7 +2,7 @@
 // Species label, used to split observables of mixtures.
 #include <cstdint>
 
-#include "engine/world.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow {
 struct Species : Column<std::uint32_t> {

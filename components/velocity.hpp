@@ -1,7 +1,7 @@
 #pragma once
 // Per-particle velocities.
 #include "components/vector.hpp"
-#include "engine/world.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow {
 template <int D>

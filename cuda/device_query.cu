@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "engine/host_device.hpp"
+#include "engine/core/host_device.hpp"
 
 namespace granflow::cuda {
 

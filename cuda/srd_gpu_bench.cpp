@@ -21,8 +21,8 @@
 #include <vector>
 
 #include "systems/srd/srd_device.hpp"
-#include "engine/rng.hpp"
-#include "engine/stream_ids.hpp"
+#include "engine/core/rng.hpp"
+#include "engine/core/stream_ids.hpp"
 #include "systems/srd/grid_shift.hpp"
 
 namespace {

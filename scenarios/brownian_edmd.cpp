@@ -18,11 +18,11 @@
 #include <cmath>
 
 #include "components/image_count.hpp"
-#include "engine/ensemble_keys.hpp"
-#include "engine/h5md_file.hpp"
-#include "engine/output_times.hpp"
-#include "engine/run.hpp"
-#include "engine/runner.hpp"
+#include "engine/run/ensemble_keys.hpp"
+#include "engine/io/h5md_file.hpp"
+#include "engine/core/output_times.hpp"
+#include "engine/run/run.hpp"
+#include "engine/run/runner.hpp"
 #include "systems/edmd/event_driven_run.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/observables/kinetic_energy.hpp"

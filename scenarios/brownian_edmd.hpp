@@ -1,8 +1,8 @@
 #pragma once
 // Scenario `brownian_edmd`: see scenarios/brownian_edmd.cpp.
 
-#include "engine/config.hpp"
-#include "engine/scenario.hpp"
+#include "engine/core/config.hpp"
+#include "engine/run/scenario.hpp"
 #include "systems/observables/ensemble_msd.hpp"
 #include "systems/sde/sde_model.hpp"
 

@@ -31,9 +31,9 @@
 #include <numbers>
 
 #include "components/species.hpp"
-#include "engine/output_times.hpp"
-#include "engine/run.hpp"
-#include "engine/scenario.hpp"
+#include "engine/core/output_times.hpp"
+#include "engine/run/run.hpp"
+#include "engine/run/scenario.hpp"
 #include "systems/edmd/crater_bed.hpp"
 #include "systems/edmd/event_driven_run.hpp"
 #include "systems/edmd/gas_setup.hpp"

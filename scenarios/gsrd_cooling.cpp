@@ -12,9 +12,9 @@
 #include <memory>
 #include <vector>
 
-#include "engine/output_times.hpp"
-#include "engine/run.hpp"
-#include "engine/scenario.hpp"
+#include "engine/core/output_times.hpp"
+#include "engine/run/run.hpp"
+#include "engine/run/scenario.hpp"
 #include "systems/srd/srd_fields.hpp"
 #include "systems/srd/srd_frames.hpp"
 #include "systems/srd/srd_setup.hpp"

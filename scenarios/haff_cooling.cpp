@@ -8,8 +8,8 @@
 
 #include <cmath>
 
-#include "engine/run.hpp"
-#include "engine/scenario.hpp"
+#include "engine/run/run.hpp"
+#include "engine/run/scenario.hpp"
 #include "scenarios/output_keys.hpp"
 #include "systems/edmd/event_driven_run.hpp"
 #include "systems/edmd/gas_setup.hpp"

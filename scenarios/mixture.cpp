@@ -15,8 +15,8 @@
 
 #include "components/mass.hpp"
 #include "components/species.hpp"
-#include "engine/input_error.hpp"
-#include "engine/scenario.hpp"
+#include "engine/core/input_error.hpp"
+#include "engine/run/scenario.hpp"
 #include "systems/observables/speed_study.hpp"
 #include "systems/initial/stored_start.hpp"
 

@@ -3,8 +3,8 @@
 
 #include <functional>
 
-#include "engine/config.hpp"
-#include "engine/world.hpp"
+#include "engine/core/config.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow::scenarios {
 

@@ -5,9 +5,9 @@
 #include <limits>
 #include <memory>
 
-#include "engine/config.hpp"
-#include "engine/output_times.hpp"
-#include "engine/trigger.hpp"
+#include "engine/core/config.hpp"
+#include "engine/core/output_times.hpp"
+#include "engine/core/trigger.hpp"
 
 namespace granflow::scenarios {
 

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "engine/config.hpp"
+#include "engine/core/config.hpp"
 #include "systems/observables/scattering_scan.hpp"
 
 namespace granflow::scenarios {

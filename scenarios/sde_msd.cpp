@@ -19,10 +19,10 @@
 
 #include <tbb/task_arena.h>
 
-#include "engine/ensemble_keys.hpp"
-#include "engine/memory_check.hpp"
-#include "engine/run.hpp"
-#include "engine/runner.hpp"
+#include "engine/run/ensemble_keys.hpp"
+#include "engine/core/memory_check.hpp"
+#include "engine/run/run.hpp"
+#include "engine/run/runner.hpp"
 #include "systems/observables/msd.hpp"
 #include "systems/observables/particle_frames.hpp"
 #include "systems/sde/sde_ensemble.hpp"

@@ -1,8 +1,8 @@
 #pragma once
 // Scenarios `langevin_msd` and `udsbm_msd`: see scenarios/sde_msd.cpp.
 
-#include "engine/config.hpp"
-#include "engine/scenario.hpp"
+#include "engine/core/config.hpp"
+#include "engine/run/scenario.hpp"
 #include "systems/observables/ensemble_msd.hpp"
 
 namespace granflow::scenarios {

@@ -3,7 +3,7 @@
 // the equilibrium histogram gathers several snapshots 10 collisions per
 // particle apart (Poeschel & Schwager 2005).
 
-#include "engine/scenario.hpp"
+#include "engine/run/scenario.hpp"
 #include "systems/observables/speed_study.hpp"
 
 namespace granflow::scenarios {

@@ -15,8 +15,8 @@
 #include <numbers>
 #include <vector>
 
-#include "engine/run.hpp"
-#include "engine/scenario.hpp"
+#include "engine/run/run.hpp"
+#include "engine/run/scenario.hpp"
 #include "systems/srd/poiseuille_fit.hpp"
 #include "systems/srd/srd_fields.hpp"
 #include "systems/srd/srd_profiles.hpp"

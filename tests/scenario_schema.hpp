@@ -3,9 +3,9 @@
 
 #include <string>
 
-#include "engine/cli.hpp"
-#include "engine/config.hpp"
-#include "engine/scenario.hpp"
+#include "engine/app/cli.hpp"
+#include "engine/core/config.hpp"
+#include "engine/run/scenario.hpp"
 
 namespace granflow {
 

@@ -20,7 +20,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "engine/host_device.hpp"
+#include "engine/core/host_device.hpp"
 
 namespace granflow::dem {
 

@@ -10,7 +10,7 @@
 
 #include <cmath>
 
-#include "engine/host_device.hpp"
+#include "engine/core/host_device.hpp"
 #include "systems/dem/contact_law.hpp"
 
 namespace granflow::dem {

@@ -25,12 +25,12 @@
 #include "components/clock.hpp"
 #include "components/particle_id.hpp"
 #include "components/position.hpp"
-#include "engine/observable_store.hpp"
-#include "engine/run_control.hpp"
-#include "engine/state_map.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
-#include "engine/world.hpp"
+#include "engine/core/observable_store.hpp"
+#include "engine/run/run_control.hpp"
+#include "engine/core/state_map.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow::dem {
 

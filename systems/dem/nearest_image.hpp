@@ -5,7 +5,7 @@
 // instructions. half is length / 2 along a periodic axis and infinity along
 // the others, which leaves d as it is.
 
-#include "engine/host_device.hpp"
+#include "engine/core/host_device.hpp"
 
 namespace granflow::dem {
 

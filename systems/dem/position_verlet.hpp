@@ -15,9 +15,9 @@
 #include "components/position.hpp"
 #include "components/vector.hpp"
 #include "components/velocity.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
-#include "engine/world.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/world.hpp"
 #include "systems/dem/neighbour_list.hpp"
 
 namespace granflow::dem {

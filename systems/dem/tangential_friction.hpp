@@ -14,7 +14,7 @@
 
 #include <cmath>
 
-#include "engine/host_device.hpp"
+#include "engine/core/host_device.hpp"
 #include "systems/dem/neighbour_list.hpp"
 
 namespace granflow::dem {

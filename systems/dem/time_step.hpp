@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/config.hpp"
-#include "engine/input_error.hpp"
+#include "engine/core/config.hpp"
+#include "engine/core/input_error.hpp"
 #include "systems/dem/contact_law.hpp"
 #include "systems/dem/dem_walls.hpp"
 #include "systems/dem/stability_limits.hpp"

@@ -20,7 +20,7 @@
 
 #include "components/box.hpp"
 #include "components/vector.hpp"
-#include "engine/page_release.hpp"
+#include "engine/core/page_release.hpp"
 #include "systems/edmd/occupied_cells.hpp"
 
 namespace granflow::edmd {

@@ -8,7 +8,7 @@
 #include <limits>
 
 #include "components/vector.hpp"
-#include "engine/host_device.hpp"
+#include "engine/core/host_device.hpp"
 
 namespace granflow::edmd {
 

@@ -3,9 +3,9 @@
 // filling y < bed.height of a reflecting unit box at bed.packing_fraction,
 // at rest, and a projectile above them moving straight down.
 
-#include "engine/config.hpp"
-#include "engine/preparation.hpp"
-#include "engine/world.hpp"
+#include "engine/core/config.hpp"
+#include "engine/run/preparation.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow::edmd {
 

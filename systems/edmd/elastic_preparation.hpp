@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <limits>
 
-#include "engine/preparation.hpp"
+#include "engine/run/preparation.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 
 namespace granflow::edmd {

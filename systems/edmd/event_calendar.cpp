@@ -1,6 +1,6 @@
 #include "systems/edmd/event_calendar.hpp"
 
-#include "engine/page_release.hpp"
+#include "engine/core/page_release.hpp"
 
 #include <algorithm>
 #include <cmath>

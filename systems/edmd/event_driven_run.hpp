@@ -9,7 +9,7 @@
 #include <cmath>
 
 #include "components/box.hpp"
-#include "engine/run.hpp"
+#include "engine/run/run.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 #include "systems/edmd/event_driven_step.hpp"
 #include "systems/edmd/event_statistics_output.hpp"

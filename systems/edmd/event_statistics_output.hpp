@@ -4,7 +4,7 @@
 // pair_dissipated_energy, wall_dissipated_energy and their sum
 // dissipated_energy.
 
-#include "engine/h5md_file.hpp"
+#include "engine/io/h5md_file.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 
 namespace granflow::edmd {

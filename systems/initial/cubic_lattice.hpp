@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "components/vector.hpp"
-#include "engine/config.hpp"
+#include "engine/core/config.hpp"
 
 namespace granflow {
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "components/vector.hpp"
-#include "engine/rng.hpp"
-#include "engine/stream_ids.hpp"
+#include "engine/core/rng.hpp"
+#include "engine/core/stream_ids.hpp"
 
 namespace granflow {
 

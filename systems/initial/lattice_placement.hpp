@@ -25,8 +25,8 @@
 
 #include "components/box.hpp"
 #include "components/vector.hpp"
-#include "engine/rng.hpp"
-#include "engine/stream_ids.hpp"
+#include "engine/core/rng.hpp"
+#include "engine/core/stream_ids.hpp"
 #include "systems/initial/random_placement.hpp"
 
 namespace granflow {

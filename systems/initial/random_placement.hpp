@@ -18,11 +18,11 @@
 
 #include "components/box.hpp"
 #include "components/vector.hpp"
-#include "engine/rng.hpp"
-#include "engine/stream_ids.hpp"
+#include "engine/core/rng.hpp"
+#include "engine/core/stream_ids.hpp"
 
-#include "engine/input_error.hpp"
-#include "engine/preparation.hpp"
+#include "engine/core/input_error.hpp"
+#include "engine/run/preparation.hpp"
 #include "systems/initial/placement_grid.hpp"
 
 namespace granflow {

@@ -1,6 +1,6 @@
 #pragma once
 // Starting a run from a stored state (initial.from, initial.frame; see
-// engine/stored_state.hpp for the formats): the scenario's keys that the
+// engine/io/stored_state.hpp for the formats): the scenario's keys that the
 // state determines are set from it before the run reads them, and the
 // particles are put into the world as they were stored, each checked: inside
 // the box (within tolerance at a wall), no two overlapping, the columns the
@@ -20,10 +20,10 @@
 #include "components/radius.hpp"
 #include "components/species.hpp"
 #include "components/velocity.hpp"
-#include "engine/config.hpp"
-#include "engine/input_error.hpp"
-#include "engine/stored_state.hpp"
-#include "engine/world.hpp"
+#include "engine/core/config.hpp"
+#include "engine/core/input_error.hpp"
+#include "engine/io/stored_state.hpp"
+#include "engine/core/world.hpp"
 #include "systems/initial/placement_grid.hpp"
 
 namespace granflow {

@@ -2,10 +2,10 @@
 // Mean number of particle-particle collisions each particle has had:
 // 2 x (pair collisions) / N.
 
-#include "engine/observable_store.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
-#include "engine/units.hpp"
+#include "engine/core/observable_store.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/units.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 
 namespace granflow {

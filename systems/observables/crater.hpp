@@ -15,12 +15,12 @@
 #include "components/position.hpp"
 #include "components/radius.hpp"
 #include "components/species.hpp"
-#include "engine/observable_store.hpp"
-#include "engine/state_map.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
-#include "engine/world.hpp"
-#include "engine/units.hpp"
+#include "engine/core/observable_store.hpp"
+#include "engine/core/state_map.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/world.hpp"
+#include "engine/core/units.hpp"
 
 namespace granflow {
 

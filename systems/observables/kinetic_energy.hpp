@@ -4,12 +4,12 @@
 
 #include "components/mass.hpp"
 #include "components/velocity.hpp"
-#include "engine/deterministic_sum.hpp"
-#include "engine/observable_store.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
-#include "engine/world.hpp"
-#include "engine/units.hpp"
+#include "engine/core/deterministic_sum.hpp"
+#include "engine/core/observable_store.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/world.hpp"
+#include "engine/core/units.hpp"
 
 namespace granflow {
 

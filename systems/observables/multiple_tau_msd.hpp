@@ -17,7 +17,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "engine/state_map.hpp"
+#include "engine/core/state_map.hpp"
 
 namespace granflow {
 

@@ -14,12 +14,12 @@
 #include "components/particle_id.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
-#include "engine/config.hpp"
-#include "engine/output_file.hpp"
-#include "engine/particle_output.hpp"
-#include "engine/run.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
+#include "engine/core/config.hpp"
+#include "engine/run/output_file.hpp"
+#include "engine/io/particle_output.hpp"
+#include "engine/run/run.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
 
 namespace granflow {
 

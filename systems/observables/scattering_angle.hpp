@@ -7,11 +7,11 @@
 #include <string>
 
 #include "components/velocity.hpp"
-#include "engine/observable_store.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
-#include "engine/units.hpp"
-#include "engine/world.hpp"
+#include "engine/core/observable_store.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/units.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow {
 

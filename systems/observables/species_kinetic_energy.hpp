@@ -8,11 +8,11 @@
 #include "components/mass.hpp"
 #include "components/species.hpp"
 #include "components/velocity.hpp"
-#include "engine/observable_store.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
-#include "engine/world.hpp"
-#include "engine/units.hpp"
+#include "engine/core/observable_store.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/world.hpp"
+#include "engine/core/units.hpp"
 
 namespace granflow {
 

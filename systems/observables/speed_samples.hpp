@@ -10,7 +10,7 @@
 
 #include "components/species.hpp"
 #include "components/velocity.hpp"
-#include "engine/world.hpp"
+#include "engine/core/world.hpp"
 #include "systems/observables/least_squares.hpp"
 
 namespace granflow {

@@ -7,10 +7,10 @@
 
 #include "components/species.hpp"
 #include "components/velocity.hpp"
-#include "engine/state_map.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
-#include "engine/world.hpp"
+#include "engine/core/state_map.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/world.hpp"
 #include "systems/observables/speed_samples.hpp"
 
 namespace granflow {

@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "components/species.hpp"
-#include "engine/output_times.hpp"
-#include "engine/run.hpp"
+#include "engine/core/output_times.hpp"
+#include "engine/run/run.hpp"
 #include "systems/edmd/event_driven_run.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/observables/collisions_per_particle.hpp"

@@ -13,15 +13,15 @@
 #include <limits>
 #include <vector>
 
-#include "engine/config.hpp"
-#include "engine/h5md_file.hpp"
-#include "engine/run.hpp"
-#include "engine/run_control.hpp"
-#include "engine/state_map.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
-#include "engine/trigger.hpp"
-#include "engine/units.hpp"
+#include "engine/core/config.hpp"
+#include "engine/io/h5md_file.hpp"
+#include "engine/run/run.hpp"
+#include "engine/run/run_control.hpp"
+#include "engine/core/state_map.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/trigger.hpp"
+#include "engine/core/units.hpp"
 #include "systems/observables/msd.hpp"
 #include "systems/observables/multiple_tau_msd.hpp"
 

@@ -1,7 +1,7 @@
 #pragma once
 // Gaussian noise for SDE stepping, written so that a loop over particles
 // vectorises: Philox4x32-10 on plain 32-bit words (the same numbers as
-// Random123's philox4x32 for the counter and key of engine/rng.hpp's
+// Random123's philox4x32 for the counter and key of engine/core/rng.hpp's
 // Philox), and the Box-Muller transform in single precision (the noise of a
 // step needs no more). Uniforms take the top 24 bits of a word, exact in a
 // float; the radius then reaches 5.9 sigma at most, an event of probability
@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <numbers>
 
-#include "engine/host_device.hpp"
+#include "engine/core/host_device.hpp"
 
 namespace granflow::sde {
 

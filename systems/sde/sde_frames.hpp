@@ -21,16 +21,16 @@
 
 #include "components/position.hpp"
 #include "components/velocity.hpp"
-#include "engine/config.hpp"
-#include "engine/h5md_file.hpp"
-#include "engine/observable_recorder.hpp"
-#include "engine/observable_store.hpp"
-#include "engine/run.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
-#include "engine/trigger.hpp"
-#include "engine/units.hpp"
-#include "engine/world.hpp"
+#include "engine/core/config.hpp"
+#include "engine/io/h5md_file.hpp"
+#include "engine/run/observable_recorder.hpp"
+#include "engine/core/observable_store.hpp"
+#include "engine/run/run.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/trigger.hpp"
+#include "engine/core/units.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow::sde {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/stream_ids.hpp"
+#include "engine/core/stream_ids.hpp"
 #include "systems/sde/gaussian_noise.hpp"
 
 namespace granflow::sde {

@@ -11,7 +11,7 @@
 #include <cmath>
 #include <limits>
 
-#include "engine/host_device.hpp"
+#include "engine/core/host_device.hpp"
 
 namespace granflow::sde {
 

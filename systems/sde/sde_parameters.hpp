@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "engine/config.hpp"
+#include "engine/core/config.hpp"
 #include "systems/sde/sde_kernel.hpp"
 #include "systems/sde/sde_model.hpp"
 #include "systems/sde/sde_theory.hpp"

@@ -22,11 +22,11 @@
 #include "components/mass.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
-#include "engine/rng.hpp"
-#include "engine/stream_ids.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
-#include "engine/world.hpp"
+#include "engine/core/rng.hpp"
+#include "engine/core/stream_ids.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/world.hpp"
 #include "systems/srd/srd_cells.hpp"
 
 namespace granflow::srd {

@@ -5,8 +5,8 @@
 
 #include "components/mass.hpp"
 #include "components/velocity.hpp"
-#include "engine/deterministic_sum.hpp"
-#include "engine/world.hpp"
+#include "engine/core/deterministic_sum.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow::srd {
 

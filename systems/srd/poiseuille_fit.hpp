@@ -14,7 +14,7 @@
 #include <cmath>
 #include <cstddef>
 
-#include "engine/h5md_file.hpp"
+#include "engine/io/h5md_file.hpp"
 #include "systems/observables/least_squares.hpp"
 #include "systems/srd/srd_profiles.hpp"
 

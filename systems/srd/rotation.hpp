@@ -19,9 +19,9 @@
 
 #include "components/clock.hpp"
 #include "components/velocity.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
-#include "engine/world.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/world.hpp"
 #include "systems/srd/srd_cells.hpp"
 
 namespace granflow::srd {

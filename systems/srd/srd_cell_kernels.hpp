@@ -8,9 +8,9 @@
 
 #include <cstdint>
 
-#include "engine/host_device.hpp"
-#include "engine/rng.hpp"
-#include "engine/stream_ids.hpp"
+#include "engine/core/host_device.hpp"
+#include "engine/core/rng.hpp"
+#include "engine/core/stream_ids.hpp"
 #include "systems/srd/srd_kernels.hpp"
 #include "systems/srd/srd_walls.hpp"
 

@@ -25,8 +25,8 @@
 #include <string>
 #include <utility>
 
-#include "engine/host_device.hpp"
-#include "engine/rng.hpp"
+#include "engine/core/host_device.hpp"
+#include "engine/core/rng.hpp"
 
 namespace granflow::device {
 

@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/profiler.hpp"
+#include "engine/core/profiler.hpp"
 #include "systems/srd/srd_cell_kernels.hpp"
 #include "systems/srd/srd_kernels.hpp"
 #include "systems/srd/srd_walls.hpp"

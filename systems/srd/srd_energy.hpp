@@ -19,13 +19,13 @@
 
 #include "components/position.hpp"
 #include "components/velocity.hpp"
-#include "engine/deterministic_sum.hpp"
-#include "engine/observable_store.hpp"
-#include "engine/state_map.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
-#include "engine/units.hpp"
-#include "engine/world.hpp"
+#include "engine/core/deterministic_sum.hpp"
+#include "engine/core/observable_store.hpp"
+#include "engine/core/state_map.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/units.hpp"
+#include "engine/core/world.hpp"
 #include "systems/srd/srd_cells.hpp"
 
 namespace granflow::srd {

@@ -21,15 +21,15 @@
 #include "components/mass.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
-#include "engine/h5md_file.hpp"
-#include "engine/output_file.hpp"
-#include "engine/run.hpp"
-#include "engine/state_map.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
-#include "engine/units.hpp"
-#include "engine/world.hpp"
-#include "engine/xdmf_export.hpp"
+#include "engine/io/h5md_file.hpp"
+#include "engine/run/output_file.hpp"
+#include "engine/run/run.hpp"
+#include "engine/core/state_map.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/units.hpp"
+#include "engine/core/world.hpp"
+#include "engine/io/xdmf_export.hpp"
 #include "systems/srd/srd_cells.hpp"
 
 namespace granflow::srd {
@@ -77,7 +77,7 @@ class SrdFieldWriter : public System, public Stateful {
 
   // The window being averaged and the times written, so that a resumed run
   // writes the fields the uninterrupted one would (the frames themselves
-  // come back with the file's, engine/run.cpp).
+  // come back with the file's, engine/run/run.cpp).
   StateMap save_state() const override {
     return {{"particles", particles_}, {"momentum", momentum_}, {"theta", theta_}, {"theta_samples", theta_samples_},
             {"mass", mass_total_}, {"samples", {static_cast<double>(samples_)}}, {"times", times_}};

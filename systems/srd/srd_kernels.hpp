@@ -12,9 +12,9 @@
 #include <cmath>
 #include <cstdint>
 
-#include "engine/host_device.hpp"
-#include "engine/rng.hpp"
-#include "engine/stream_ids.hpp"
+#include "engine/core/host_device.hpp"
+#include "engine/core/rng.hpp"
+#include "engine/core/stream_ids.hpp"
 
 namespace granflow::srd {
 

@@ -17,8 +17,8 @@
 #include <cmath>
 #include <vector>
 
-#include "engine/config.hpp"
-#include "engine/input_error.hpp"
+#include "engine/core/config.hpp"
+#include "engine/core/input_error.hpp"
 #include "systems/srd/srd_walls.hpp"
 
 namespace granflow::srd {

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "components/clock.hpp"
-#include "engine/world.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow::srd {
 

@@ -18,12 +18,12 @@
 #include <string>
 
 #include "components/clock.hpp"
-#include "engine/observable_store.hpp"
-#include "engine/run.hpp"
-#include "engine/run_control.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
-#include "engine/world.hpp"
+#include "engine/core/observable_store.hpp"
+#include "engine/run/run.hpp"
+#include "engine/run/run_control.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/world.hpp"
 #include "systems/srd/srd_cells.hpp"
 #include "systems/srd/srd_state_observer.hpp"
 

@@ -12,10 +12,10 @@
 
 #include "components/mass.hpp"
 #include "components/velocity.hpp"
-#include "engine/deterministic_sum.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
-#include "engine/world.hpp"
+#include "engine/core/deterministic_sum.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/world.hpp"
 #include "systems/srd/global_motion.hpp"
 #include "systems/srd/srd_cells.hpp"
 

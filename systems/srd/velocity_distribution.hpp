@@ -12,11 +12,11 @@
 
 #include "components/mass.hpp"
 #include "components/velocity.hpp"
-#include "engine/observable_store.hpp"
-#include "engine/system.hpp"
-#include "engine/system_catalogue.hpp"
-#include "engine/units.hpp"
-#include "engine/world.hpp"
+#include "engine/core/observable_store.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/units.hpp"
+#include "engine/core/world.hpp"
 #include "systems/srd/global_motion.hpp"
 #include "systems/srd/srd_cells.hpp"
 

@@ -72,7 +72,7 @@ for trial in range(60):
     open(path, "wb").write(bytes(damaged))
     failures += resume(path, f"random bytes, trial {trial}")
 
-# The seal of engine/file_seal.cpp: FNV-1a over the 8-byte words after the
+# The seal of engine/io/file_seal.cpp: FNV-1a over the 8-byte words after the
 # 512-byte user block, then the remaining bytes, written into the block.
 def reseal(path):
     data = open(path, "rb").read()
@@ -93,7 +93,7 @@ shutil.copy(f"{work}/edited.checkpoint", resealed)
 reseal(resealed)
 failures += resume(resealed, "edited and resealed (the seal is recomputed correctly)", must_resume=True)
 
-# Crafted values with a valid checksum (the FNV-1a of engine/checkpoint_file.cpp) and seal.
+# Crafted values with a valid checksum (the FNV-1a of engine/io/checkpoint_file.cpp) and seal.
 def checksum(configuration, state):
     h = 14695981039346656037
     def mix(b):

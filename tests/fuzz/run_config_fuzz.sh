@@ -9,7 +9,7 @@ seconds="${1:-60}"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -I. \
-  engine/config.cpp engine/sweep_file.cpp tests/fuzz/config_fuzz.cpp $(pkg-config --cflags --libs tomlplusplus fmt) -o "$work/config_fuzz"
+  engine/core/config.cpp engine/app/sweep_file.cpp tests/fuzz/config_fuzz.cpp $(pkg-config --cflags --libs tomlplusplus fmt) -o "$work/config_fuzz"
 mkdir -p "$work/corpus"
 cp scenarios/*.toml "$work/corpus/"
 printf 'system.cells=[46, 46, 46]\n[[walls]]\naxis = "x"\nposition = 0.5\n' > "$work/corpus/lists.toml"

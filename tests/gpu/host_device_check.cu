@@ -5,8 +5,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "engine/rng.hpp"
-#include "engine/stream_ids.hpp"
+#include "engine/core/rng.hpp"
+#include "engine/core/stream_ids.hpp"
 #include "systems/edmd/collision_rule.hpp"
 #include "systems/sde/gaussian_noise.hpp"
 #include "systems/sde/sde_model.hpp"

@@ -7,7 +7,7 @@
 #include <cstdint>
 
 #include "tests/gpu/host_device_check.cuh"
-#include "engine/host_device.hpp"
+#include "engine/core/host_device.hpp"
 #include "systems/srd/srd_kernels.hpp"
 #include "systems/srd/srd_walls.hpp"
 

@@ -17,9 +17,9 @@
 #include <string>
 
 #include "components/velocity.hpp"
-#include "engine/h5md_reader.hpp"
-#include "engine/run.hpp"
-#include "engine/runner.hpp"
+#include "engine/io/h5md_reader.hpp"
+#include "engine/run/run.hpp"
+#include "engine/run/runner.hpp"
 #include "tests/scenario_schema.hpp"
 #include "tests/scratch_directory.hpp"
 

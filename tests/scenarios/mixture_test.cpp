@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "tests/scenario_schema.hpp"
-#include "engine/sample_statistics.hpp"
+#include "engine/core/sample_statistics.hpp"
 #include "scenarios/mixture.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/observables/species_kinetic_energy.hpp"

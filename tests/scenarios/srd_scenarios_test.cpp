@@ -29,9 +29,9 @@
 #include <string>
 
 #include "tests/scenario_schema.hpp"
-#include "engine/h5md_reader.hpp"
-#include "engine/rng.hpp"
-#include "engine/runner.hpp"
+#include "engine/io/h5md_reader.hpp"
+#include "engine/core/rng.hpp"
+#include "engine/run/runner.hpp"
 #include "systems/initial/initial_velocities.hpp"
 #include "systems/observables/maxwell_boltzmann.hpp"
 #include "systems/srd/srd_setup.hpp"

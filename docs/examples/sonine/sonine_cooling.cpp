@@ -12,10 +12,10 @@
 #include <memory>
 
 #include "components/velocity.hpp"
-#include "engine/cli.hpp"
-#include "engine/run.hpp"
-#include "engine/scenario.hpp"
-#include "engine/units.hpp"
+#include "engine/app/cli.hpp"
+#include "engine/run/run.hpp"
+#include "engine/run/scenario.hpp"
+#include "engine/core/units.hpp"
 #include "systems/edmd/event_driven_run.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/observables/kinetic_energy.hpp"

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <vector>
 
-#include "engine/rng.hpp"
+#include "engine/core/rng.hpp"
 #include "systems/dem/compartments.hpp"
 
 namespace granflow::dem {

@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/rng.hpp"
+#include "engine/core/rng.hpp"
 #include "systems/dem/contact_law.hpp"
 #include "systems/dem/pair_kernel.hpp"
 

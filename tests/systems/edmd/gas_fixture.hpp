@@ -10,7 +10,7 @@
 #include "components/position.hpp"
 #include "components/radius.hpp"
 #include "components/velocity.hpp"
-#include "engine/world.hpp"
+#include "engine/core/world.hpp"
 #include "systems/edmd/kinetic_theory.hpp"
 #include "systems/initial/initial_velocities.hpp"
 #include "systems/initial/random_placement.hpp"

@@ -9,7 +9,7 @@
 #include "components/position.hpp"
 #include "components/radius.hpp"
 #include "components/velocity.hpp"
-#include "engine/world.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow::edmd::testing {
 

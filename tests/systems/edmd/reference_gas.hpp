@@ -24,7 +24,7 @@
 #include "components/position.hpp"
 #include "components/radius.hpp"
 #include "components/velocity.hpp"
-#include "engine/world.hpp"
+#include "engine/core/world.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 
 namespace granflow::edmd::testing {

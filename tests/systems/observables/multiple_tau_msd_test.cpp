@@ -9,7 +9,7 @@
 #include <cmath>
 #include <vector>
 
-#include "engine/rng.hpp"
+#include "engine/core/rng.hpp"
 #include "systems/observables/multiple_tau_msd.hpp"
 
 namespace granflow {

@@ -12,7 +12,7 @@
 #include <cmath>
 #include <vector>
 
-#include "engine/stream_ids.hpp"
+#include "engine/core/stream_ids.hpp"
 #include "systems/sde/gaussian_noise.hpp"
 #include "systems/sde/sde_kernel.hpp"
 

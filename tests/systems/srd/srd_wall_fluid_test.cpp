@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "components/clock.hpp"
-#include "engine/rng.hpp"
-#include "engine/stream_ids.hpp"
-#include "engine/world.hpp"
+#include "engine/core/rng.hpp"
+#include "engine/core/stream_ids.hpp"
+#include "engine/core/world.hpp"
 #include "systems/srd/cell_binning.hpp"
 #include "systems/srd/cell_reduction.hpp"
 #include "systems/srd/grid_shift.hpp"

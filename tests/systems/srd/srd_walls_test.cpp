@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/rng.hpp"
+#include "engine/core/rng.hpp"
 #include "systems/srd/srd_walls.hpp"
 
 namespace granflow::srd {

@@ -1,0 +1,3 @@
+#include "engine/app/cli.hpp"
+
+int main(int argc, char** argv) { return granflow::main(argc, argv); }

@@ -1,0 +1,37 @@
+#pragma once
+// A system names what it reads and writes (engine/core/access.hpp); the Schedule
+// orders systems from those declarations alone, so nobody wires graph edges
+// by hand.
+
+#include <string>
+#include <vector>
+
+#include "engine/core/access.hpp"
+#include "engine/core/profiler.hpp"
+
+namespace granflow {
+
+class World;
+
+class System {
+ public:
+  virtual ~System() = default;
+  virtual std::string name() const = 0;
+  virtual Access access() const = 0;
+  virtual void run(World& world) = 0;
+
+  // For a system whose state lives on an accelerator: bring the World's
+  // columns and resources up to date, before observers or a checkpoint read
+  // them (the Run calls it; between such times the state stays there).
+  virtual void synchronise_host(World&) {}
+  // For an observer: whether this round it reads state that lives on an
+  // accelerator (particle columns). One that reads only what the step keeps
+  // current on the host (sums it computed there, counters) says no, and a
+  // round of only such observers copies nothing back.
+  virtual bool reads_device_state(const World&) const { return true; }
+  // Its stages as the accelerator's own clock timed them: the wall time of
+  // an asynchronous launch says nothing. Added to the /profile table.
+  virtual std::vector<ProfileEntry> device_profile() const { return {}; }
+};
+
+}  // namespace granflow

@@ -1,0 +1,90 @@
+#pragma once
+// Writes particle data to /particles/all in particle-id order, whatever order
+// the engine keeps them in memory.
+
+#include <cstdint>
+#include <numeric>
+#include <vector>
+
+#include "components/image_count.hpp"
+#include "components/mass.hpp"
+#include "components/particle_id.hpp"
+#include "components/position.hpp"
+#include "components/radius.hpp"
+#include "components/species.hpp"
+#include "components/velocity.hpp"
+#include "engine/io/h5md_file.hpp"
+#include "engine/core/units.hpp"
+#include "engine/core/world.hpp"
+
+namespace granflow {
+
+// storage index of each particle id
+inline std::vector<std::uint32_t> storage_order(const World& world) {
+  std::vector<std::uint32_t> order(world.size());
+  if (!world.has_component<ParticleId>()) {
+    std::iota(order.begin(), order.end(), 0u);
+    return order;
+  }
+  const auto& id = world.component<ParticleId>();
+  for (std::uint32_t i = 0; i < world.size(); ++i) order[id[i]] = i;
+  return order;
+}
+
+template <class Column>
+std::vector<double> flatten_by_id(const Column& column, const std::vector<std::uint32_t>& order) {
+  using T = typename Column::value_type;
+  std::vector<double> out;
+  if constexpr (std::is_arithmetic_v<T>) {
+    out.reserve(order.size());
+    for (auto i : order) out.push_back(static_cast<double>(column[i]));
+  } else {
+    out.reserve(order.size() * static_cast<std::size_t>(T::RowsAtCompileTime));
+    for (auto i : order)
+      for (int a = 0; a < T::RowsAtCompileTime; ++a) out.push_back(column[i][a]);
+  }
+  return out;
+}
+
+// Integer columns (labels, image counts) in particle-id order.
+template <class Column>
+std::vector<std::int32_t> flatten_integers_by_id(const Column& column, const std::vector<std::uint32_t>& order) {
+  using T = typename Column::value_type;
+  std::vector<std::int32_t> out;
+  if constexpr (std::is_arithmetic_v<T>) {
+    out.reserve(order.size());
+    for (auto i : order) out.push_back(static_cast<std::int32_t>(column[i]));
+  } else {
+    out.reserve(order.size() * static_cast<std::size_t>(T::RowsAtCompileTime));
+    for (auto i : order)
+      for (int a = 0; a < T::RowsAtCompileTime; ++a) out.push_back(static_cast<std::int32_t>(column[i][a]));
+  }
+  return out;
+}
+
+// Frames are written in id order, so the id of row k is k at every time.
+inline void write_particle_constants(H5mdFile& file, const World& world) {
+  const auto order = storage_order(world);
+  file.write_particle_constant("mass", flatten_by_id(world.component<Mass>(), order), 1, unit::mass);
+  if (world.has_component<Radius>())
+    file.write_particle_constant("radius", flatten_by_id(world.component<Radius>(), order), 1, unit::length);
+  std::vector<std::int32_t> id(world.size());
+  std::iota(id.begin(), id.end(), 0);
+  file.write_particle_constant("id", id);
+  if (world.has_component<Species>())
+    file.write_particle_constant("species", flatten_integers_by_id(world.component<Species>(), order));
+}
+
+// Positions (wrapped into the box), velocities and, where the World counts
+// periodic images, the images: position + image * edges is the unwrapped position.
+template <int D>
+void append_particle_frame(H5mdFile& file, const World& world, std::int64_t step, double time) {
+  const auto order = storage_order(world);
+  file.append_particle_frame("position", step, time, flatten_by_id(world.component<Position<D>>(), order), D);
+  file.append_particle_frame("velocity", step, time, flatten_by_id(world.component<Velocity<D>>(), order), D);
+  if (world.has_component<ImageCount<D>>())
+    file.append_particle_frame("image", step, time, flatten_integers_by_id(world.component<ImageCount<D>>(), order),
+                               D);
+}
+
+}  // namespace granflow

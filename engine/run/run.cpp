@@ -1,0 +1,231 @@
+#include "engine/run/run.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "engine/io/particle_output.hpp"
+
+namespace granflow {
+
+Run::Run(const Config& config, Profiler& profiler, std::uint64_t seed, std::size_t member,
+         const StateMap* resume_from, H5mdFile* file)
+    : config_(config),
+      profiler_(profiler),
+      seed_(seed),
+      member_(member),
+      resume_(resume_from),
+      file_(file),
+      steps_(profiler),
+      observers_(profiler) {
+  world_.emplace_resource<Clock>();
+  world_.emplace_resource<RunControl>();
+  world_.emplace_resource<ObservableStore>();
+  world_.emplace_resource<OutputFile>().file = file;
+}
+
+void Run::initial_state(const std::function<void(World&)>& create) {
+  if (!resume_) {
+    create(world_);
+    return;
+  }
+  const auto size = resume_->find("world.size");
+  if (size == resume_->end() || size->second.size() != 1 || !(size->second[0] >= 0) || size->second[0] > 4e9)
+    throw std::invalid_argument("checkpoint has no valid particle count");
+  world_.restore_columns(static_cast<std::size_t>(size->second[0]), state_under(*resume_, "world"));
+  for (const auto& [name, value] : state_under(*resume_, "derived"))
+    if (value.size() == 1) derived_.emplace_back(name, value[0]);
+}
+
+void Run::derive(const std::string& name, double value) {
+  for (auto& [known, stored] : derived_)
+    if (known == name) {
+      stored = value;
+      return;
+    }
+  derived_.emplace_back(name, value);
+}
+
+double Run::derived(const std::string& name) const {
+  for (const auto& [known, value] : derived_)
+    if (known == name) return value;
+  throw std::logic_error("no derived quantity '" + name + "'");
+}
+
+void Run::add_trigger(const TriggerPtr& trigger) {
+  if (!trigger) throw std::logic_error("an observer needs a trigger");
+  if (std::find(triggers_.begin(), triggers_.end(), trigger) == triggers_.end()) triggers_.push_back(trigger);
+}
+
+void Run::prepare() {
+  std::vector<std::string> observables;
+  auto& store = world_.resource<ObservableStore>();
+  for (const auto& system : observers_.systems()) {
+    const Access access = system->access();
+    for (const auto& name : access.written_observables())
+      if (!store.declared(name)) {
+        store.declare(name);
+        observables.push_back(name);
+      }
+    if (file_)
+      for (const auto& [name, unit] : access.observable_units()) file_->declare_unit(name, unit);
+  }
+  recorder_ = &observers_.emplace<ObservableRecorder>(observables);
+  if (!resume_) return;
+  const auto clock = resume_->find("clock");
+  const auto round = resume_->find("round");
+  if (clock == resume_->end() || clock->second.size() != 2 || round == resume_->end() || round->second.size() != 2)
+    throw std::invalid_argument("checkpoint has no clock");
+  world_.resource<Clock>().time = clock->second[0];
+  world_.resource<Clock>().step = static_cast<std::int64_t>(clock->second[1]);
+  round_time_ = round->second[0];
+  round_step_ = static_cast<std::int64_t>(round->second[1]);
+  for (auto& trigger : triggers_) trigger->pass(round_time_, round_step_);
+  recorder_->replay(file_, state_under(*resume_, "history"));
+  if (file_) file_->restore_frames(state_under(*resume_, "frames"));
+  if (file_) file_->restore_provenance(state_under(*resume_, "provenance"));
+}
+
+void Run::synchronise_host() {
+  for (const auto& system : steps_.systems()) system->synchronise_host(world_);
+}
+
+StateMap Run::save() {
+  synchronise_host();
+  StateMap out;
+  put_state_under(out, "world", world_.save_columns());
+  out["world.size"] = {static_cast<double>(world_.size())};
+  const auto& clock = world_.resource<Clock>();
+  out["clock"] = {clock.time, static_cast<double>(clock.step)};
+  out["round"] = {round_time_, static_cast<double>(round_step_)};
+  for (const auto& [name, value] : derived_) out["derived/" + name] = {value};
+  for (const auto& [name, object] : kept_) put_state_under(out, "kept/" + name, object->save_state());
+  put_state_under(out, "history", recorder_->save_history());
+  // A finished run's checkpoint leaves out what its final round wrote: an
+  // extension writes its own at its new end.
+  if (file_) put_state_under(out, "frames", file_->frames_state(at_end_fired_ ? frames_before_end_ : FrameCounts{}));
+  if (file_) put_state_under(out, "provenance", file_->provenance_state());
+  return out;
+}
+
+// Runs the observers `due` picks (by index), and then the recorder. The
+// mask is kept between rounds: time-stepped runs fire every step.
+template <class Due>
+void Run::run_observers(Due&& due) {
+  enabled_.assign(observers_.size(), false);
+  bool any = false;
+  for (std::size_t k = 0; k < observer_triggers_.size(); ++k) {
+    enabled_[k] = due(*observer_triggers_[k]);
+    any = any || enabled_[k];
+  }
+  if (!any) return;
+  enabled_.back() = true;  // the recorder, which reads only observables
+  const auto& observers = observers_.systems();
+  for (std::size_t k = 0; k + 1 < observers.size(); ++k)
+    if (enabled_[k] && observers[k]->reads_device_state(world_)) {
+      synchronise_host();
+      break;
+    }
+  observers_.run(world_, enabled_);
+}
+
+// Observers whose trigger is due at the clock run; at a stop, so do those
+// that were due at the target the run was heading for.
+void Run::fire(bool stopping, double target_time, std::int64_t target_step) {
+  const auto& clock = world_.resource<Clock>();
+  run_observers([&](const Trigger& t) {
+    bool due = time_reached(t.next_time(), clock.time) || t.next_step() <= clock.step;
+    if (stopping)
+      due = due || (t.next_time() != Trigger::never && time_reached(t.next_time(), target_time)) ||
+            (t.next_step() != Trigger::no_step && t.next_step() <= target_step);
+    return due;
+  });
+}
+
+void Run::fire_at_end() {
+  if (at_end_fired_) return;
+  at_end_fired_ = true;
+  if (file_) frames_before_end_ = file_->frame_counts();
+  auto& control = world_.resource<RunControl>();
+  control.ending = true;
+  run_observers([](const Trigger& t) { return t.at_end(); });
+  control.ending = false;
+}
+
+RunOutcome Run::execute(const std::atomic<bool>* interrupt, const std::function<void()>& after_round) {
+  auto& clock = world_.resource<Clock>();
+  auto& control = world_.resource<RunControl>();
+  control.interrupt = interrupt;
+  const auto interrupted = [&] { return interrupt && interrupt->load(std::memory_order_relaxed); };
+  while (true) {
+    if (interrupted()) return {RunOutcome::Kind::interrupted, "interrupted"};
+    // The next target: the earliest time and step any trigger asks for, up
+    // to the stop time and step. Times that agree to round-off are one
+    // target, at the time of the first-declared trigger among them.
+    double earliest = stop_time_;
+    std::int64_t target_step = stop_step_;
+    for (const auto& t : triggers_) {
+      earliest = std::min(earliest, t->next_time());
+      target_step = std::min(target_step, t->next_step());
+    }
+    double target_time = earliest;
+    for (const auto& t : triggers_)
+      if (time_reached(t->next_time(), earliest)) {
+        target_time = std::min(t->next_time(), stop_time_);
+        break;
+      }
+    if (!std::isfinite(target_time) && target_step == Trigger::no_step) break;  // nothing left to wait for
+    control.target_time = target_time;
+    control.target_step = target_step;
+    while (clock.time < target_time && clock.step < target_step && !control.stop) {
+      const double time_before = clock.time;
+      const std::int64_t step_before = clock.step;
+      steps_.run(world_);
+      if (interrupted() && clock.time < target_time && clock.step < target_step && !control.stop)
+        return {RunOutcome::Kind::interrupted, "interrupted"};
+      if (clock.time == time_before && clock.step == step_before && !control.stop)
+        throw std::logic_error("the per-step systems did not advance the clock");
+    }
+    fire(control.stop, target_time, target_step);
+    round_time_ = clock.time;
+    round_step_ = clock.step;
+    for (auto& t : triggers_) t->pass(clock.time, clock.step);
+    if (control.stop) {
+      fire_at_end();
+      return {control.failed ? RunOutcome::Kind::failed : RunOutcome::Kind::stopped, control.reason};
+    }
+    if (clock.time >= stop_time_ || clock.step >= stop_step_) break;
+    for (const auto& criterion : stop_criteria_)
+      if (auto reason = criterion()) {
+        fire_at_end();
+        return {RunOutcome::Kind::finished, *reason};
+      }
+    if (after_round) after_round();
+  }
+  fire_at_end();
+  return {RunOutcome::Kind::finished, finished_reason_};
+}
+
+double Run::progress_fraction() const {
+  const auto& clock = world_.resource<Clock>();
+  double fraction = 0.0;
+  if (std::isfinite(stop_time_) && stop_time_ > 0) fraction = std::max(fraction, clock.time / stop_time_);
+  if (stop_step_ != Trigger::no_step && stop_step_ > 0)
+    fraction = std::max(fraction, static_cast<double>(clock.step) / static_cast<double>(stop_step_));
+  for (const auto& f : progress_) fraction = std::max(fraction, f());
+  return std::clamp(fraction, 0.0, 1.0);
+}
+
+void Run::write_results(const RunOutcome& outcome) {
+  synchronise_host();
+  for (const auto& system : steps_.systems())
+    for (const ProfileEntry& entry : system->device_profile()) profiler_.record_device(entry);
+  if (!file_) return;
+  if (!box_edges_.empty()) file_->write_box(box_edges_, box_boundary_);
+  for (const auto& [name, value] : derived_) file_->write_attribute("/parameters/derived", name, value);
+  if (world_.size() > 0 && world_.has_component<Mass>()) write_particle_constants(*file_, world_);
+  for (const auto& hook : finish_hooks_) hook(*file_, outcome);
+  file_->write_attribute("/observables", "stop_reason", outcome.reason);
+}
+
+}  // namespace granflow
