@@ -10,8 +10,8 @@
 // the device's storage order, which is the CPU's as both put the particles
 // in cell order at the same steps.
 //
-// Only in builds with a device step (GRANFLOW_HAVE_DEVICE_STEP);
-// srd_device_setup.cpp refuses the key elsewhere.
+// Only in builds with a device step (the granflow_srd_device library);
+// srd_device_backends.hpp refuses the key elsewhere.
 
 #include <spdlog/spdlog.h>
 

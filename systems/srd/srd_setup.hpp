@@ -31,6 +31,7 @@
 #include "systems/srd/rotation.hpp"
 #include "systems/initial/stored_start.hpp"
 #include "systems/srd/srd_cells.hpp"
+#include "systems/srd/srd_device_backends.hpp"
 #include "systems/srd/srd_step_limits.hpp"
 #include "systems/srd/streaming.hpp"
 #include "systems/srd/srd_walls.hpp"
@@ -232,13 +233,6 @@ inline RotationParameters rotation_from(const Config& c) {
   return {c.real("srd.rotation_angle"), c.real("srd.restitution"), c.real("srd.diameter"), c.real("srd.time_step"),
           dissipation_from(c), c.real("shear.rate") > 0.0};
 }
-
-// The step on a CUDA device (srd_device_step.hpp), or why it cannot run.
-// Defined in srd_device_setup.cpp, the one file that differs between a
-// build with the CUDA back end and one without.
-template <int D>
-void add_device_step(Run& run, const SrdCells<D>& cells, std::size_t particles, const BodyForce<D>& force,
-                     std::uint64_t reorder_interval, bool walled);
 
 // The initial fluid, the cells resource, the box and the step chain.
 template <int D>
