@@ -11,6 +11,7 @@ Layers, lowest first (docs/composing-scenarios.md):
   components             the particle columns and resources
   engine/io              H5MD, checkpoints, the particle schema, exports
   engine/run             Run, Runner, scenarios as the engine knows them
+  systems/geometry       what every method bins particles with
   systems/initial        placement and initial velocities
   systems/edmd           the event-driven gas (and the preparations it runs)
   systems/sde, systems/observables
@@ -29,6 +30,7 @@ LAYERS = [
     ["components"],
     ["engine/io"],
     ["engine/run"],
+    ["systems/geometry"],
     ["systems/initial"],
     ["systems/edmd"],
     ["systems/sde", "systems/observables"],

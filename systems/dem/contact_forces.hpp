@@ -70,7 +70,7 @@ class DemContactForces : public System {
   std::string name() const override { return "dem_contact_forces"; }
   Access access() const override {
     return Access{}
-        .reads<Clock, Position<D>, Velocity<D>, AngularVelocity, Radius, Mass, DemBox<D>>()
+        .reads<Clock, Position<D>, Velocity<D>, AngularVelocity, Radius, Mass, Box<D>>()
         .template writes<Force<D>, Torque, NeighbourList<D>, DemInteractions<D>>();
   }
 
@@ -173,7 +173,7 @@ class DemContactForces : public System {
     sweep.mass = world.component<Mass>().values.data();
     sweep.first = nl.first.data();
     sweep.second = nl.list.data();
-    const auto& box = world.resource<DemBox<D>>();
+    const auto& box = world.resource<Box<D>>();
     const auto half = box.half_periods();
     for (int a = 0; a < D; ++a) {
       sweep.length[a] = box.length[a];
@@ -225,7 +225,7 @@ class DemContactForces : public System {
       const auto& omega = world.component<AngularVelocity>();
       auto& force = world.component<Force<D>>();
       auto& torque = world.component<Torque>();
-      const auto& box = world.resource<DemBox<D>>();
+      const auto& box = world.resource<Box<D>>();
       const ContactLaw law = in.law;
       const TangentialFriction friction = in.friction;
       for (std::size_t p = begin; p < end; ++p) {

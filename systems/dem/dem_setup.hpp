@@ -362,7 +362,7 @@ inline double add_dem_step(Run& run, const std::array<double, 3>& box, const std
       throw ConfigError(fmt::format("system.box[{}] = {} is too short for a periodic axis: it must exceed twice the "
                                     "interaction range, 2 (2 particle.radius + skin) = {}",
                                     a, box[static_cast<std::size_t>(a)], 2.0 * range));
-  auto& dem_box = world.emplace_resource<DemBox<D>>();
+  auto& dem_box = world.emplace_resource<Box<D>>();
   dem_box.length = box;
   dem_box.periodic = periodic;
   auto& interactions = world.emplace_resource<DemInteractions<D>>();

@@ -28,6 +28,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "components/box.hpp"
 #include "components/clock.hpp"
 #include "components/position.hpp"
 #include "components/radius.hpp"
@@ -39,53 +40,13 @@
 #include "systems/dem/dem_watchdog.hpp"
 #include "systems/dem/nearest_image.hpp"
 #include "systems/dem/thread_domains.hpp"
+#include "systems/geometry/counting_sort.hpp"
 
 namespace granflow::dem {
 
 inline const SystemDescription dem_neighbour_list_description{
     "dem_neighbour_list",
     "half Verlet lists with a skin from a cell grid, rebuilt (spheres put in cell order) when one moved half the skin"};
-
-// The box: edge lengths from 0, and which axes are periodic (the others end at walls).
-template <int D>
-struct DemBox {
-  static constexpr const char* key = "dem_box";
-  std::array<double, D> length{};
-  std::array<bool, D> periodic{};
-
-  // Puts p back into the box along the periodic axes; returns what was
-  // subtracted (for what moves with p, such as its previous position).
-  Vec<D> wrap(Vec<D>& p) const {
-    Vec<D> shift = Vec<D>::Zero();
-    for (int k = 0; k < D; ++k)
-      // Most steps leave a sphere inside: the division only where it left.
-      if (periodic[k] && (p[k] < 0.0 || p[k] >= length[k])) {
-        shift[k] = length[k] * std::floor(p[k] / length[k]);
-        p[k] -= shift[k];
-      }
-    return shift;
-  }
-
-  // Half the box length along the periodic axes, infinity along the others:
-  // a separation beyond it is wrapped by nearest_image.
-  std::array<double, D> half_periods() const {
-    std::array<double, D> half{};
-    for (int k = 0; k < D; ++k) half[k] = periodic[k] ? 0.5 * length[k] : std::numeric_limits<double>::infinity();
-    return half;
-  }
-
-  // The separation a - b, as the minimal image along periodic axes.
-  void separation(const Vec<D>& a, const Vec<D>& b, double* out) const {
-    for (int k = 0; k < D; ++k) {
-      double d = a[k] - b[k];
-      if (periodic[k]) {
-        if (d > 0.5 * length[k]) d -= length[k];
-        else if (d < -0.5 * length[k]) d += length[k];
-      }
-      out[k] = d;
-    }
-  }
-};
 
 // The tangential spring of one contact (Cundall-Strack): the displacement
 // of the first sphere's contact point relative to the second's (or to the
@@ -194,7 +155,7 @@ ThreadDomains sphere_domains(const World& world) {
 // last build (a wrapped sphere is its own periodic image: the nearest one
 // counts).
 template <int D>
-double largest_displacement_squared(const Vec<D>* x, const NeighbourList<D>& nl, const DemBox<D>& box, std::size_t from,
+double largest_displacement_squared(const Vec<D>* x, const NeighbourList<D>& nl, const Box<D>& box, std::size_t from,
                                     std::size_t to) {
   const std::array<double, D> half = box.half_periods();
   double most = 0.0;
@@ -227,7 +188,7 @@ class DemNeighbourList : public System {
   Access access() const override {
     // A build may reorder every column (World::permute).
     return Access{}
-        .reads<Clock, Radius, DemBox<D>, DemWatch<D>>()
+        .reads<Clock, Radius, Box<D>, DemWatch<D>>()
         .template writes<Position<D>, NeighbourList<D>, RunControl>()
         .writes_every_component();
   }
@@ -243,7 +204,7 @@ class DemNeighbourList : public System {
     const double limit = 0.25 * nl.skin * nl.skin;
     if (nl.displacement_step == world.resource<Clock>().step) return !(nl.displacement_squared <= limit);
     const auto& x = world.component<Position<D>>();
-    const auto& box = world.resource<DemBox<D>>();
+    const auto& box = world.resource<Box<D>>();
     std::atomic<double> largest{0.0};
     for_each_sphere_run(sphere_domains<D>(world), [&](std::size_t, std::size_t from, std::size_t to) {
       raise_to(largest, largest_displacement_squared(x.values.data(), nl, box, from, to));
@@ -252,7 +213,7 @@ class DemNeighbourList : public System {
   }
 
   static void build(World& world, NeighbourList<D>& nl) {
-    const auto& box = world.resource<DemBox<D>>();
+    const auto& box = world.resource<Box<D>>();
     const std::size_t n = world.size();
     const auto& radii = world.component<Radius>();
     const double largest = n ? *std::max_element(radii.values.begin(), radii.values.end()) : 0.0;
@@ -311,12 +272,8 @@ class DemNeighbourList : public System {
         if (!inside) escaped.store(true, std::memory_order_relaxed);
       });
     }
-    for (std::size_t i = 0; i < n; ++i) ++start[cell[i] + 1];
-    for (std::size_t c = 0; c < cell_count; ++c) start[c + 1] += start[c];
-    {
-      std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
-      for (std::size_t i = 0; i < n; ++i) members[next[cell[i]]++] = static_cast<std::uint32_t>(i);
-    }
+    std::vector<std::uint32_t> chunk_counts;
+    count_scan_fill(cell.data(), n, cell_count, start.data(), members.data(), chunk_counts);
     // The previous lists, in the previous order, for the shear history.
     NeighbourList<D> previous;
     std::vector<std::uint32_t> was;  // was[new index] = index at the previous build's end

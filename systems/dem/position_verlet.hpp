@@ -36,7 +36,7 @@ class DemPositionVerlet : public System {
   explicit DemPositionVerlet(double dt) : dt_(dt) {}
   std::string name() const override { return "dem_position_verlet"; }
   Access access() const override {
-    return Access{}.reads<Force<D>, Mass, DemBox<D>, NeighbourList<D>>()
+    return Access{}.reads<Force<D>, Mass, Box<D>, NeighbourList<D>>()
         .template writes<Position<D>, Velocity<D>, PreviousPosition<D>, ImageCount<D>, Clock>();
   }
 
@@ -61,7 +61,7 @@ class DemPositionVerlet : public System {
     auto& previous = world.component<PreviousPosition<D>>();
     const auto& f = world.component<Force<D>>();
     const auto& m = world.component<Mass>();
-    const auto& box = world.resource<DemBox<D>>();
+    const auto& box = world.resource<Box<D>>();
     auto* images = world.has_component<ImageCount<D>>() ? &world.component<ImageCount<D>>() : nullptr;
     const double dt = dt_;
     const ThreadDomains domains = sphere_domains<D>(world);

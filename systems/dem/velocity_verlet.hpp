@@ -53,7 +53,7 @@ class DemKickDrift : public System {
   std::string name() const override { return "dem_kick_drift"; }
   Access access() const override {
     return Access{}
-        .reads<Force<D>, Torque, Mass, Radius, DemBox<D>, NeighbourList<D>>()
+        .reads<Force<D>, Torque, Mass, Radius, Box<D>, NeighbourList<D>>()
         .template writes<Position<D>, Velocity<D>, ImageCount<D>, AngularVelocity, Clock, NeighbourList<D>>();
   }
   void run(World& world) override {
@@ -64,7 +64,7 @@ class DemKickDrift : public System {
     auto& v = world.component<Velocity<D>>();
     const auto& f = world.component<Force<D>>();
     const auto& m = world.component<Mass>();
-    const auto& box = world.resource<DemBox<D>>();
+    const auto& box = world.resource<Box<D>>();
     const double dt = dt_;
     // A sphere moves much less than a box length per step: one compare and
     // select each way puts it back, without a branch.

@@ -22,6 +22,7 @@
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/world.hpp"
+#include "systems/geometry/counting_sort.hpp"
 #include "systems/srd/srd_cells.hpp"
 
 namespace granflow::srd {
@@ -117,48 +118,8 @@ class SrdCellBinning : public System {
     assign(world, cells);
     const std::size_t n = world.size();
     cells.order.resize(n);
-    const std::uint32_t* cell = cells.cell.data();
-    // Each of a fixed number of chunks (not one per thread, so the order is
-    // the same on any thread count) counts its particles per cell; the counts
-    // give each chunk its place in every cell, and each chunk then writes its
-    // particles there, in index order.
-    const std::size_t cell_count = cells.cell_count();
-    const std::size_t chunks = std::clamp<std::size_t>(n / (1u << 16), 1, 16);
-    const std::size_t per_chunk = (n + chunks - 1) / chunks;
-    cells.chunk_counts.assign(chunks * cell_count, 0u);
-    std::uint32_t* counts = cells.chunk_counts.data();
-    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
-      std::uint32_t* mine = counts + k * cell_count;
-      for (std::size_t i = k * per_chunk; i < std::min(n, (k + 1) * per_chunk); ++i) ++mine[cell[i]];
-    });
-    // Exclusive prefix over (cell, chunk): chunk k of cell c starts after all
-    // of cell c's earlier chunks. The cells' totals, their prefix sum, then
-    // each cell's chunks, in parallel but for the plain sum over cells.
-    tbb::parallel_for(std::size_t{0}, cell_count, [&](std::size_t c) {
-      std::uint32_t total = 0;
-      for (std::size_t k = 0; k < chunks; ++k) total += counts[k * cell_count + c];
-      cells.count[c] = total;
-    });
-    std::uint32_t running = 0;
-    for (std::size_t c = 0; c < cell_count; ++c) {
-      cells.start[c] = running;
-      running += cells.count[c];
-    }
-    cells.start[cell_count] = running;
-    tbb::parallel_for(std::size_t{0}, cell_count, [&](std::size_t c) {
-      std::uint32_t next = cells.start[c];
-      for (std::size_t k = 0; k < chunks; ++k) {
-        const std::uint32_t here = counts[k * cell_count + c];
-        counts[k * cell_count + c] = next;
-        next += here;
-      }
-    });
-    std::uint32_t* order = cells.order.data();
-    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
-      std::uint32_t* next = counts + k * cell_count;
-      for (std::size_t i = k * per_chunk; i < std::min(n, (k + 1) * per_chunk); ++i)
-        order[next[cell[i]]++] = static_cast<std::uint32_t>(i);
-    });
+    count_scan_fill(cells.cell.data(), n, cells.cell_count(), cells.start.data(), cells.order.data(), cells.chunk_counts,
+                    cells.count.data());
   }
 
   // bin, then the particle columns in cell order: afterwards particle k is

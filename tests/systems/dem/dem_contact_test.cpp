@@ -55,7 +55,7 @@ struct Spheres {
     world.add_component<Force<3>>();
     world.add_component<Radius>();
     world.add_component<Mass>();
-    auto& b = world.emplace_resource<DemBox<3>>();
+    auto& b = world.emplace_resource<Box<3>>();
     b.length = box;
     b.periodic = periodic;
     world.emplace_resource<NeighbourList<3>>().skin = skin;
@@ -260,7 +260,7 @@ TEST(DemContact, NeighbourListsFindEveryContactAllPairsFinds) {
     s.interactions().law = law;
     s.world.resource<NeighbourList<3>>().reorder = reorder;
     s.start();
-    const auto& box = s.world.resource<DemBox<3>>();
+    const auto& box = s.world.resource<Box<3>>();
     const auto& radius = s.world.component<Radius>();
     for (int step = 0; step < 2000; ++step) {
       s.advance();

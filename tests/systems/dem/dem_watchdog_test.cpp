@@ -46,7 +46,7 @@ struct OneSphere {
     world.add_component<Mass>().values.assign(1, 1.0);
     world.add_component<Radius>().values.assign(1, 0.5);
     world.add_component<ParticleId>().values.assign(1, 7u);
-    auto& box = world.emplace_resource<DemBox<3>>();
+    auto& box = world.emplace_resource<Box<3>>();
     box.length = {10.0, 10.0, 10.0};
     std::vector<DemWall> walls;
     for (int axis = 0; axis < 3; ++axis)
