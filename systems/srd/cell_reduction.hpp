@@ -44,50 +44,13 @@ class SrdCellReduction : public System {
 
   void run(World& world) override { reduce(world, world.resource<SrdCells<D>>()); }
 
-  // The layer of this step's grid that a no-slip wall cuts: where along its
-  // axis (stride: of that axis in the linear cell index) it lies.
-  struct CutLayer {
-    const Wall* wall;
-    std::uint32_t stride;
-    std::int64_t layer;
-  };
-  static std::vector<CutLayer> cut_layers(const SrdCells<D>& cells, double time) {
-    std::vector<CutLayer> out;
-    for (const Wall& wall : cells.walls) {
-      if (wall.kind != WallKind::no_slip || !wall.ghosts) continue;
-      const int a = wall.axis;
-      std::uint32_t stride = 1;
-      for (int b = 0; b < a; ++b) stride *= static_cast<std::uint32_t>(cells.cells[b]);
-      out.push_back({&wall, stride, floor_index(wall.position(time) + cells.shift[a] - cells.origin[a])});
-    }
-    return out;
-  }
-
-  // Fills cell c, if a no-slip wall cuts it and it holds fewer than
-  // cells.ghost_fill particles, up to that many with ghost particles
-  // (srd_walls.hpp), keyed by (seed, step, cell). Cells no particle is in
-  // get none: they have nothing to rotate. A cell cut by two walls (a
-  // corner) takes the first one's.
-  static void add_ghosts(SrdCells<D>& cells, const std::vector<CutLayer>& cuts, std::uint32_t c, double time,
-                         std::uint64_t step) {
-    cells.ghosts[c] = 0;
-    for (const CutLayer& cut : cuts) {
-      const Wall& wall = *cut.wall;
-      const auto along = static_cast<std::uint32_t>(cells.cells[wall.axis]);
-      if (static_cast<std::int64_t>((c / cut.stride) % along) != cut.layer) continue;
-      const int missing = ghost_count(cells.count[c], cells.ghost_fill);
-      if (missing == 0) return;
-      add_ghosts_to_sums<D>(cells.sums[c], missing, wall, time, cells.particle_mass, cells.seed, step, c);
-      cells.ghosts[c] = static_cast<std::uint32_t>(missing);
-      return;
-    }
-  }
-
   // Needs SrdCellBinning::assign's cells and blocks of the current positions.
   static void reduce(const World& world, SrdCells<D>& cells) {
     const double time = world.resource<Clock>().time;
     const auto step = static_cast<std::uint64_t>(world.resource<Clock>().step);
-    const std::vector<CutLayer> cuts = cut_layers(cells, time);
+    CutLayer cuts[6];
+    const int cut_count = find_cut_layers(cells.walls.data(), static_cast<int>(cells.walls.size()), cells.cells.data(),
+                                          cells.shift.data(), cells.origin.data(), time, cuts);
     const Vec<D>* velocity = world.component<Velocity<D>>().data();  // D doubles each, packed
     const double* x = world.component<Position<D>>().data()->data();
     const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
@@ -140,14 +103,17 @@ class SrdCellReduction : public System {
               add_to_sums<D>(s, seen, m, w);
               if (moments) {
                 const double y = x[D * i + 1] + y_shift;
-                const double offset = m * (y - static_cast<double>(floor_index(y)) - 0.5);  // from the cell's centre
+                const double offset = moment_offset(m, y);
                 for (int a = 0; a < D; ++a) moment[D * c + a] += offset * w[a];
                 moment_mass[c] += offset;
               }
             }
           }
           if (!cells.walls.empty())
-            for (std::uint32_t c = begin; c < end; ++c) add_ghosts(cells, cuts, c, time, step);
+            for (std::uint32_t c = begin; c < end; ++c)
+              cells.ghosts[c] = fill_cut_cell<D>(cells.sums[c], cells.count[c], c, cuts, cut_count, cells.walls.data(),
+                                                 cells.cells.data(), cells.ghost_fill, time, cells.particle_mass,
+                                                 cells.seed, step);
           for (std::uint32_t c = begin; c < end; ++c) {
             if (count[c] == 0) {
               cells.mass[c] = 0.0;

@@ -78,6 +78,59 @@ GRANFLOW_HD inline void add_ghosts_to_sums(CellSums<D>& s, int missing, const Wa
   s.mass += m;
 }
 
+// The layer of this step's grid that a no-slip wall with ghosts cuts: the
+// wall (its index), the stride of its axis in the linear cell index, and
+// where along that axis it lies.
+struct CutLayer {
+  int wall;
+  std::uint32_t stride;
+  std::int64_t layer;
+};
+
+// The layers the walls cut at `time` on a grid of `cells` per axis whose
+// cells start at origin - shift; at most one per wall, in wall order.
+// Returns how many it wrote to `out`.
+GRANFLOW_HD inline int find_cut_layers(const Wall* walls, int wall_count, const std::int32_t* cells,
+                                       const double* shift, const double* origin, double time, CutLayer* out) {
+  int found = 0;
+  for (int w = 0; w < wall_count; ++w) {
+    const Wall& wall = walls[w];
+    if (wall.kind != WallKind::no_slip || !wall.ghosts) continue;
+    std::uint32_t stride = 1;
+    for (int b = 0; b < wall.axis; ++b) stride *= static_cast<std::uint32_t>(cells[b]);
+    out[found++] = {w, stride, floor_index(wall.position(time) + shift[wall.axis] - origin[wall.axis])};
+  }
+  return found;
+}
+
+// Fills cell c of `members` particles, if a cut layer holds it and it has
+// fewer than `fill`, up to that many with ghost particles keyed by (seed,
+// step, c); a cell cut by two walls (a corner) takes the first one's.
+// Returns how many ghosts it added.
+template <int D>
+GRANFLOW_HD inline std::uint32_t fill_cut_cell(CellSums<D>& sums, std::uint32_t members, std::uint32_t c,
+                                               const CutLayer* cuts, int cut_count, const Wall* walls,
+                                               const std::int32_t* cells, double fill, double time,
+                                               double particle_mass, std::uint64_t seed, std::uint64_t step) {
+  for (int q = 0; q < cut_count; ++q) {
+    const CutLayer& cut = cuts[q];
+    const Wall& wall = walls[cut.wall];
+    const auto along = static_cast<std::uint32_t>(cells[wall.axis]);
+    if (static_cast<std::int64_t>((c / cut.stride) % along) != cut.layer) continue;
+    const int missing = ghost_count(members, fill);
+    if (missing == 0) return 0;
+    add_ghosts_to_sums<D>(sums, missing, wall, time, particle_mass, seed, step, c);
+    return static_cast<std::uint32_t>(missing);
+  }
+  return 0;
+}
+
+// The mass-weighted offset along y of a particle at shifted height y from
+// its cell's centre, the lever arm of the cell's angular momentum.
+GRANFLOW_HD inline double moment_offset(double mass, double y) {
+  return mass * (y - static_cast<double>(floor_index(y)) - 0.5);
+}
+
 // The cell's mean velocity V and temperature theta = sum m |v - V|^2 / (D
 // members) from its sums; drift[a] = V - reference, for the moments.
 template <int D>

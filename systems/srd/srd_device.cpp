@@ -66,17 +66,10 @@ void for_each_index(std::size_t count, const F& f) {
   thrust::for_each(thrust::device, first, first + count, f);
 }
 
-// The layer of this step's grid a no-slip wall with ghosts cuts.
-struct CutLayer {
-  int wall;
-  std::uint32_t stride;
-  std::int64_t layer;
-};
-
 struct StepConstants {
   SrdDeviceSetup setup;
   SrdDeviceStep step;
-  CutLayer cuts[6];
+  srd::CutLayer cuts[6];
   int cut_count;
 };
 
@@ -171,24 +164,14 @@ struct ReduceCell {
       srd::add_to_sums<D>(sums, seen, s.particle_mass, w);
       if (moment) {
         const double y = x[D * i + 1] + y_shift;
-        const double offset = s.particle_mass * (y - static_cast<double>(srd::floor_index(y)) - 0.5);
+        const double offset = srd::moment_offset(s.particle_mass, y);
         for (int a = 0; a < D; ++a) m_moment[a] += offset * w[a];
         moment_mass += offset;
       }
     }
-    std::uint32_t added = 0;
-    for (int q = 0; q < k.cut_count; ++q) {
-      const CutLayer& cut = k.cuts[q];
-      const srd::Wall& wall = s.walls[cut.wall];
-      const auto along = static_cast<std::uint32_t>(s.cells[wall.axis]);
-      if (static_cast<std::int64_t>((c / cut.stride) % along) != cut.layer) continue;
-      const int missing = srd::ghost_count(members, s.ghost_fill);
-      if (missing > 0) {
-        srd::add_ghosts_to_sums<D>(sums, missing, wall, k.step.end_time, s.particle_mass, s.seed, k.step.step, c);
-        added = static_cast<std::uint32_t>(missing);
-      }
-      break;
-    }
+    const std::uint32_t added =
+        srd::fill_cut_cell<D>(sums, members, c, k.cuts, k.cut_count, s.walls, s.cells, s.ghost_fill, k.step.end_time,
+                              s.particle_mass, s.seed, k.step.step);
     if (ghosts) ghosts[c] = added;
     double drift[D], mean[D], t;
     srd::finish_sums<D>(sums, static_cast<double>(members + added), mean, t, drift);
@@ -639,14 +622,7 @@ SrdDeviceReport SrdDevice::Impl::step(const SrdDeviceStep& in, const SrdSumReque
   k.step = in;
   // The layers the no-slip walls with ghosts cut at the step's end, as the CPU reduction finds them.
   const double time = in.end_time;
-  for (int w = 0; w < setup.wall_count; ++w) {
-    const srd::Wall& wall = setup.walls[w];
-    if (wall.kind != srd::WallKind::no_slip || !wall.ghosts) continue;
-    std::uint32_t stride = 1;
-    for (int b = 0; b < wall.axis; ++b) stride *= static_cast<std::uint32_t>(setup.cells[b]);
-    k.cuts[k.cut_count++] = {w, stride,
-                             srd::floor_index(wall.position(time) + in.shift[wall.axis] - setup.origin[wall.axis])};
-  }
+  k.cut_count = srd::find_cut_layers(setup.walls, setup.wall_count, setup.cells, in.shift, setup.origin, time, k.cuts);
   std::int8_t* img = raw(image);
   std::uint32_t* ghost_counts = raw(ghosts);
 
