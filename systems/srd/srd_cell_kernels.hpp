@@ -131,6 +131,20 @@ GRANFLOW_HD inline double moment_offset(double mass, double y) {
   return mass * (y - static_cast<double>(floor_index(y)) - 0.5);
 }
 
+// The global thermostat's update of one velocity v (in place): its cell's
+// mean less the global drift, plus `factor` times its velocity relative to
+// the mean as the cell sees it (a particle beyond a Lees-Edwards plane moves
+// with `image_velocity` more along x).
+template <int D>
+GRANFLOW_HD inline void thermostat_velocity(double* v, const double* mean, const double* drift, double factor,
+                                            double image_velocity) {
+  for (int a = 0; a < D; ++a) {
+    double u = v[a] - mean[a];
+    if (a == 0) u += image_velocity;
+    v[a] = mean[a] - drift[a] + factor * u - (a == 0 ? image_velocity : 0.0);
+  }
+}
+
 // The cell's mean velocity V and temperature theta = sum m |v - V|^2 / (D
 // members) from its sums; drift[a] = V - reference, for the moments.
 template <int D>

@@ -276,12 +276,7 @@ struct Thermostat {
   double drift[3];
   GRANFLOW_HD void operator()(std::size_t i) const {
     const double image_velocity = image ? -image[i] * k.step.shear.velocity : 0.0;
-    for (int a = 0; a < D; ++a) {
-      const double mean = velocity[D * cell[i] + a];
-      double u = v[D * i + a] - mean;
-      if (a == 0) u += image_velocity;
-      v[D * i + a] = mean - drift[a] + factor * u - (a == 0 ? image_velocity : 0.0);
-    }
+    srd::thermostat_velocity<D>(v + D * i, velocity + D * cell[i], drift, factor, image_velocity);
   }
 };
 

@@ -17,6 +17,7 @@
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/world.hpp"
 #include "systems/srd/global_motion.hpp"
+#include "systems/srd/srd_cell_kernels.hpp"
 #include "systems/srd/srd_cells.hpp"
 
 namespace granflow::srd {
@@ -61,9 +62,8 @@ class SrdThermostat : public System {
     const double factor = std::sqrt(temperature_ * dof / thermal);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
-        const Vec<D> u = thermal_velocity(i);
-        velocity[i] = cells.velocity[cell[i]] - drift + factor * u;
-        velocity[i][0] -= cells.image_velocity(i);
+        thermostat_velocity<D>(velocity[i].data(), cells.velocity[cell[i]].data(), drift.data(), factor,
+                               cells.image_velocity(i));
       }
     });
     tbb::parallel_for(std::size_t{0}, cells.cell_count(), [&](std::size_t c) { cells.velocity[c] -= drift; });
