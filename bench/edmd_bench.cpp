@@ -14,10 +14,10 @@
 #include <cmath>
 #include <numbers>
 
-#include "tests/scenario_schema.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/edmd/kinetic_theory.hpp"
+#include "tests/scenario_schema.hpp"
 
 namespace {
 

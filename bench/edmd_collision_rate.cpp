@@ -17,9 +17,9 @@
 #include <chrono>
 #include <cstdlib>
 
-#include "tests/scenario_schema.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/edmd/kinetic_theory.hpp"
+#include "tests/scenario_schema.hpp"
 
 int main(int argc, char** argv) {
   using namespace granflow;

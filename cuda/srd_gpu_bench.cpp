@@ -20,10 +20,10 @@
 #include <string>
 #include <vector>
 
-#include "systems/srd/srd_device.hpp"
 #include "engine/core/rng.hpp"
 #include "engine/core/stream_ids.hpp"
 #include "systems/srd/grid_shift.hpp"
+#include "systems/srd/srd_device.hpp"
 
 namespace {
 

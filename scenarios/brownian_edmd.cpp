@@ -18,9 +18,9 @@
 #include <cmath>
 
 #include "components/image_count.hpp"
-#include "engine/run/ensemble_keys.hpp"
-#include "engine/io/h5md_file.hpp"
 #include "engine/core/output_times.hpp"
+#include "engine/io/h5md_file.hpp"
+#include "engine/run/ensemble_keys.hpp"
 #include "engine/run/run.hpp"
 #include "engine/run/runner.hpp"
 #include "systems/edmd/event_driven_run.hpp"

@@ -19,9 +19,9 @@
 #include "systems/srd/srd_frames.hpp"
 #include "systems/srd/srd_setup.hpp"
 #include "systems/srd/srd_state_observer.hpp"
-#include "systems/srd/velocity_distribution.hpp"
 #include "systems/srd/srd_theory.hpp"
 #include "systems/srd/srd_watchdog.hpp"
+#include "systems/srd/velocity_distribution.hpp"
 
 namespace granflow::scenarios {
 namespace {

@@ -17,8 +17,8 @@
 #include "components/species.hpp"
 #include "engine/core/input_error.hpp"
 #include "engine/run/scenario.hpp"
-#include "systems/observables/speed_study.hpp"
 #include "systems/initial/stored_start.hpp"
+#include "systems/observables/speed_study.hpp"
 
 namespace granflow::scenarios {
 

@@ -19,8 +19,8 @@
 
 #include <tbb/task_arena.h>
 
-#include "engine/run/ensemble_keys.hpp"
 #include "engine/core/memory_check.hpp"
+#include "engine/run/ensemble_keys.hpp"
 #include "engine/run/run.hpp"
 #include "engine/run/runner.hpp"
 #include "systems/observables/msd.hpp"

@@ -20,15 +20,15 @@
 #include "components/position.hpp"
 #include "components/velocity.hpp"
 #include "engine/core/rng.hpp"
-#include "engine/run/run.hpp"
-#include "engine/run/scenario.hpp"
 #include "engine/core/stream_ids.hpp"
 #include "engine/core/units.hpp"
+#include "engine/run/run.hpp"
+#include "engine/run/scenario.hpp"
 #include "systems/dem/compartments.hpp"
 #include "systems/dem/dem_setup.hpp"
 #include "systems/dem/divided_bed.hpp"
-#include "systems/initial/stored_start.hpp"
 #include "systems/dem/height_profiles.hpp"
+#include "systems/initial/stored_start.hpp"
 
 namespace granflow::scenarios {
 namespace {

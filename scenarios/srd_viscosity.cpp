@@ -12,9 +12,9 @@
 #include <memory>
 #include <numbers>
 
+#include "engine/core/units.hpp"
 #include "engine/run/run.hpp"
 #include "engine/run/scenario.hpp"
-#include "engine/core/units.hpp"
 #include "systems/srd/shear_viscosity.hpp"
 #include "systems/srd/srd_fields.hpp"
 #include "systems/srd/srd_frames.hpp"

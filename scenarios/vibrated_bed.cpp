@@ -21,10 +21,10 @@
 
 #include "components/position.hpp"
 #include "components/velocity.hpp"
-#include "engine/run/run.hpp"
-#include "engine/run/scenario.hpp"
 #include "engine/core/stream_ids.hpp"
 #include "engine/core/units.hpp"
+#include "engine/run/run.hpp"
+#include "engine/run/scenario.hpp"
 #include "systems/dem/dem_setup.hpp"
 #include "systems/dem/height_profiles.hpp"
 #include "systems/initial/cubic_lattice.hpp"

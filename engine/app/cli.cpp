@@ -13,25 +13,25 @@
 #include <memory>
 #include <optional>
 
-#include "engine/core/config.hpp"
-#include "engine/io/file_seal.hpp"
-#include "engine/io/h5_handle.hpp"
-#include "engine/io/h5md_reader.hpp"
-#include "engine/core/input_error.hpp"
-#include "engine/io/mdanalysis_export.hpp"
 #include "engine/app/mpi_launch.hpp"
-#include "engine/io/gsd_export.hpp"
-#include "engine/io/provenance.hpp"
-#include "engine/run/runner.hpp"
-#include "engine/run/scenario.hpp"
 #include "engine/app/sweep_plan.hpp"
 #include "engine/app/sweep_ranks.hpp"
-#include "engine/core/suggestion.hpp"
 #include "engine/app/sweep_runner.hpp"
+#include "engine/core/config.hpp"
+#include "engine/core/input_error.hpp"
+#include "engine/core/suggestion.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/io/file_seal.hpp"
+#include "engine/io/gsd_export.hpp"
+#include "engine/io/h5_handle.hpp"
+#include "engine/io/h5md_reader.hpp"
+#include "engine/io/mdanalysis_export.hpp"
+#include "engine/io/provenance.hpp"
 #include "engine/io/version.hpp"
 #include "engine/io/xdmf_export.hpp"
 #include "engine/io/xyz_export.hpp"
+#include "engine/run/runner.hpp"
+#include "engine/run/scenario.hpp"
 
 namespace granflow {
 

@@ -6,11 +6,11 @@
 #include <cmath>
 #include <set>
 
+#include "engine/app/sweep_file.hpp"
 #include "engine/core/rng.hpp"
+#include "engine/core/stream_ids.hpp"
 #include "engine/run/runner.hpp"
 #include "engine/run/scenario.hpp"
-#include "engine/core/stream_ids.hpp"
-#include "engine/app/sweep_file.hpp"
 
 namespace granflow {
 

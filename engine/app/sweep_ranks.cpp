@@ -16,9 +16,9 @@
 #include <thread>
 #include <vector>
 
+#include "engine/app/sweep_results.hpp"
 #include "engine/core/config.hpp"
 #include "engine/run/runner.hpp"
-#include "engine/app/sweep_results.hpp"
 
 namespace granflow {
 

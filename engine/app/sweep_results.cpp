@@ -9,10 +9,10 @@
 #include <fstream>
 #include <sstream>
 
+#include "engine/core/sample_statistics.hpp"
 #include "engine/io/h5_handle.hpp"
 #include "engine/io/h5md_file.hpp"
 #include "engine/io/h5md_reader.hpp"
-#include "engine/core/sample_statistics.hpp"
 #include "engine/run/scenario.hpp"
 
 namespace granflow {

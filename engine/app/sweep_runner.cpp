@@ -10,10 +10,10 @@
 #include <mutex>
 #include <optional>
 
+#include "engine/app/sweep_results.hpp"
 #include "engine/run/progress.hpp"
 #include "engine/run/runner.hpp"
 #include "engine/run/scenario.hpp"
-#include "engine/app/sweep_results.hpp"
 
 namespace granflow {
 

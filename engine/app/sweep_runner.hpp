@@ -15,11 +15,11 @@
 #include <string>
 #include <vector>
 
-#include "engine/core/config.hpp"
-#include "engine/run/progress.hpp"
-#include "engine/core/interrupt.hpp"
 #include "engine/app/sweep_plan.hpp"
 #include "engine/app/sweep_shards.hpp"
+#include "engine/core/config.hpp"
+#include "engine/core/interrupt.hpp"
+#include "engine/run/progress.hpp"
 
 namespace granflow {
 

@@ -10,8 +10,8 @@
 #include <map>
 #include <vector>
 
-#include "engine/io/gsd_layout.hpp"
 #include "engine/core/input_error.hpp"
+#include "engine/io/gsd_layout.hpp"
 #include "engine/io/particle_frames.hpp"
 
 namespace granflow {

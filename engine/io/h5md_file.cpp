@@ -14,11 +14,11 @@
 #include <stdexcept>
 
 #include "engine/core/config.hpp"
+#include "engine/core/input_error.hpp"
+#include "engine/core/units.hpp"
 #include "engine/io/file_seal.hpp"
 #include "engine/io/h5_write.hpp"
-#include "engine/core/input_error.hpp"
 #include "engine/io/provenance.hpp"
-#include "engine/core/units.hpp"
 #include "engine/io/version.hpp"
 
 namespace granflow {

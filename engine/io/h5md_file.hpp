@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/io/h5_handle.hpp"
 #include "engine/core/profiler.hpp"
 #include "engine/core/state_map.hpp"
+#include "engine/io/h5_handle.hpp"
 
 namespace granflow {
 

@@ -10,9 +10,9 @@
 #include <optional>
 #include <vector>
 
+#include "engine/core/input_error.hpp"
 #include "engine/io/h5_write.hpp"
 #include "engine/io/h5md_reader.hpp"
-#include "engine/core/input_error.hpp"
 #include "engine/io/particle_frames.hpp"
 
 namespace granflow {

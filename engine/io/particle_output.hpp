@@ -13,9 +13,9 @@
 #include "components/radius.hpp"
 #include "components/species.hpp"
 #include "components/velocity.hpp"
-#include "engine/io/h5md_file.hpp"
 #include "engine/core/units.hpp"
 #include "engine/core/world.hpp"
+#include "engine/io/h5md_file.hpp"
 
 namespace granflow {
 

@@ -10,10 +10,10 @@
 #include <map>
 #include <sstream>
 
+#include "engine/core/input_error.hpp"
 #include "engine/io/gsd_layout.hpp"
 #include "engine/io/h5_handle.hpp"
 #include "engine/io/h5md_reader.hpp"
-#include "engine/core/input_error.hpp"
 #include "engine/io/particle_frames.hpp"
 
 namespace granflow {

@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include "engine/core/input_error.hpp"
 #include "engine/io/h5_handle.hpp"
 #include "engine/io/h5_write.hpp"
 #include "engine/io/h5md_reader.hpp"
-#include "engine/core/input_error.hpp"
 #include "engine/io/particle_frames.hpp"
 
 namespace granflow {

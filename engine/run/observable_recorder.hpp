@@ -12,11 +12,11 @@
 
 #include "components/clock.hpp"
 #include "engine/core/observable_store.hpp"
-#include "engine/run/output_file.hpp"
 #include "engine/core/state_map.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/world.hpp"
+#include "engine/run/output_file.hpp"
 
 namespace granflow {
 

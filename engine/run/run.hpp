@@ -23,16 +23,16 @@
 
 #include "components/clock.hpp"
 #include "engine/core/config.hpp"
-#include "engine/run/observable_recorder.hpp"
 #include "engine/core/observable_store.hpp"
-#include "engine/run/output_file.hpp"
-#include "engine/run/preparation.hpp"
 #include "engine/core/profiler.hpp"
-#include "engine/run/run_control.hpp"
 #include "engine/core/schedule.hpp"
 #include "engine/core/state_map.hpp"
 #include "engine/core/trigger.hpp"
 #include "engine/core/world.hpp"
+#include "engine/run/observable_recorder.hpp"
+#include "engine/run/output_file.hpp"
+#include "engine/run/preparation.hpp"
+#include "engine/run/run_control.hpp"
 
 namespace granflow {
 

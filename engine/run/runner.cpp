@@ -14,17 +14,17 @@
 #include <mutex>
 #include <optional>
 
+#include "engine/core/interrupt.hpp"
+#include "engine/core/profiler.hpp"
+#include "engine/core/rng.hpp"
+#include "engine/core/stream_ids.hpp"
 #include "engine/io/checkpoint_file.hpp"
 #include "engine/io/h5_handle.hpp"
 #include "engine/io/h5md_file.hpp"
 #include "engine/io/h5md_reader.hpp"
-#include "engine/core/interrupt.hpp"
-#include "engine/core/profiler.hpp"
 #include "engine/run/progress.hpp"
-#include "engine/run/thermo_log.hpp"
-#include "engine/core/rng.hpp"
 #include "engine/run/run.hpp"
-#include "engine/core/stream_ids.hpp"
+#include "engine/run/thermo_log.hpp"
 
 namespace granflow {
 

@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "engine/core/input_error.hpp"
-#include "engine/run/observable_recorder.hpp"
 #include "engine/core/suggestion.hpp"
+#include "engine/run/observable_recorder.hpp"
 
 namespace granflow {
 

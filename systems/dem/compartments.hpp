@@ -20,14 +20,14 @@
 #include "components/clock.hpp"
 #include "components/position.hpp"
 #include "engine/core/config.hpp"
-#include "engine/io/h5md_file.hpp"
 #include "engine/core/observable_store.hpp"
-#include "engine/run/run.hpp"
 #include "engine/core/state_map.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
 #include "engine/core/world.hpp"
+#include "engine/io/h5md_file.hpp"
+#include "engine/run/run.hpp"
 #include "systems/observables/least_squares.hpp"
 
 namespace granflow::dem {

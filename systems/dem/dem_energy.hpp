@@ -12,8 +12,8 @@
 
 #include "components/angular_velocity.hpp"
 #include "components/mass.hpp"
-#include "components/radius.hpp"
 #include "components/position.hpp"
+#include "components/radius.hpp"
 #include "components/velocity.hpp"
 #include "engine/core/deterministic_sum.hpp"
 #include "engine/core/observable_store.hpp"

@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "components/force.hpp"
 #include "components/angular_velocity.hpp"
+#include "components/force.hpp"
 #include "components/image_count.hpp"
 #include "components/mass.hpp"
 #include "components/particle_id.hpp"
@@ -28,10 +28,8 @@
 #include "components/velocity.hpp"
 #include "engine/core/config.hpp"
 #include "engine/core/input_error.hpp"
-#include "engine/run/run.hpp"
-#include "systems/initial/stored_start.hpp"
-#include "systems/observables/particle_frames.hpp"
 #include "engine/core/units.hpp"
+#include "engine/run/run.hpp"
 #include "systems/dem/contact_forces.hpp"
 #include "systems/dem/dem_energy.hpp"
 #include "systems/dem/dem_watchdog.hpp"
@@ -40,6 +38,8 @@
 #include "systems/dem/time_step.hpp"
 #include "systems/dem/velocity_verlet.hpp"
 #include "systems/dem/wall_observer.hpp"
+#include "systems/initial/stored_start.hpp"
+#include "systems/observables/particle_frames.hpp"
 
 namespace granflow::dem {
 

@@ -26,11 +26,11 @@
 #include "components/particle_id.hpp"
 #include "components/position.hpp"
 #include "engine/core/observable_store.hpp"
-#include "engine/run/run_control.hpp"
 #include "engine/core/state_map.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/world.hpp"
+#include "engine/run/run_control.hpp"
 
 namespace granflow::dem {
 

@@ -28,14 +28,14 @@
 #include "components/position.hpp"
 #include "components/radius.hpp"
 #include "components/velocity.hpp"
-#include "engine/io/h5md_file.hpp"
 #include "engine/core/observable_store.hpp"
-#include "engine/run/run.hpp"
 #include "engine/core/state_map.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
 #include "engine/core/world.hpp"
+#include "engine/io/h5md_file.hpp"
+#include "engine/run/run.hpp"
 
 namespace granflow::dem {
 

@@ -4,8 +4,8 @@
 // at rest, and a projectile above them moving straight down.
 
 #include "engine/core/config.hpp"
-#include "engine/run/preparation.hpp"
 #include "engine/core/world.hpp"
+#include "engine/run/preparation.hpp"
 
 namespace granflow::edmd {
 

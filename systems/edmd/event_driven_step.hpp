@@ -13,9 +13,9 @@
 #include "components/clock.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
-#include "engine/run/run_control.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/run/run_control.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 
 namespace granflow::edmd {

@@ -22,8 +22,8 @@
 #include "components/velocity.hpp"
 #include "engine/core/config.hpp"
 #include "engine/core/input_error.hpp"
-#include "engine/io/stored_state.hpp"
 #include "engine/core/world.hpp"
+#include "engine/io/stored_state.hpp"
 #include "systems/initial/placement_grid.hpp"
 
 namespace granflow {

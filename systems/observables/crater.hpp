@@ -19,8 +19,8 @@
 #include "engine/core/state_map.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
-#include "engine/core/world.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow {
 

@@ -12,9 +12,9 @@
 #include <functional>
 #include <vector>
 
-#include "engine/run/ensemble_keys.hpp"
-#include "engine/io/h5md_file.hpp"
 #include "engine/core/sample_statistics.hpp"
+#include "engine/io/h5md_file.hpp"
+#include "engine/run/ensemble_keys.hpp"
 #include "systems/observables/msd.hpp"
 #include "systems/observables/time_averaged_msd.hpp"
 

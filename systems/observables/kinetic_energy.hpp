@@ -8,8 +8,8 @@
 #include "engine/core/observable_store.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
-#include "engine/core/world.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/world.hpp"
 
 namespace granflow {
 

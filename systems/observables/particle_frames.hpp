@@ -15,11 +15,11 @@
 #include "components/position.hpp"
 #include "components/velocity.hpp"
 #include "engine/core/config.hpp"
-#include "engine/run/output_file.hpp"
-#include "engine/io/particle_output.hpp"
-#include "engine/run/run.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/io/particle_output.hpp"
+#include "engine/run/output_file.hpp"
+#include "engine/run/run.hpp"
 
 namespace granflow {
 

@@ -10,8 +10,8 @@
 #include <cmath>
 #include <vector>
 
-#include "engine/io/h5md_file.hpp"
 #include "engine/core/units.hpp"
+#include "engine/io/h5md_file.hpp"
 
 namespace granflow {
 

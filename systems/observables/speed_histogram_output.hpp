@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/io/h5md_file.hpp"
 #include "engine/core/units.hpp"
+#include "engine/io/h5md_file.hpp"
 #include "systems/observables/maxwell_boltzmann.hpp"
 #include "systems/observables/speed_samples.hpp"
 

@@ -14,14 +14,14 @@
 #include <vector>
 
 #include "engine/core/config.hpp"
-#include "engine/io/h5md_file.hpp"
-#include "engine/run/run.hpp"
-#include "engine/run/run_control.hpp"
 #include "engine/core/state_map.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/trigger.hpp"
 #include "engine/core/units.hpp"
+#include "engine/io/h5md_file.hpp"
+#include "engine/run/run.hpp"
+#include "engine/run/run_control.hpp"
 #include "systems/observables/msd.hpp"
 #include "systems/observables/multiple_tau_msd.hpp"
 

@@ -22,15 +22,15 @@
 #include "components/position.hpp"
 #include "components/velocity.hpp"
 #include "engine/core/config.hpp"
-#include "engine/io/h5md_file.hpp"
-#include "engine/run/observable_recorder.hpp"
 #include "engine/core/observable_store.hpp"
-#include "engine/run/run.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/trigger.hpp"
 #include "engine/core/units.hpp"
 #include "engine/core/world.hpp"
+#include "engine/io/h5md_file.hpp"
+#include "engine/run/observable_recorder.hpp"
+#include "engine/run/run.hpp"
 
 namespace granflow::sde {
 

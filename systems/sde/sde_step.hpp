@@ -25,11 +25,11 @@
 #include "components/clock.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
-#include "engine/run/run_control.hpp"
 #include "engine/core/stream_ids.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/world.hpp"
+#include "engine/run/run_control.hpp"
 #include "systems/sde/sde_kernel.hpp"
 #include "systems/sde/sde_model.hpp"
 

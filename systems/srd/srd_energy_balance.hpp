@@ -10,8 +10,8 @@
 #include <array>
 #include <memory>
 
-#include "engine/run/run.hpp"
 #include "engine/core/trigger.hpp"
+#include "engine/run/run.hpp"
 #include "systems/srd/srd_energy.hpp"
 #include "systems/srd/srd_watchdog.hpp"
 

@@ -21,15 +21,15 @@
 #include "components/mass.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
-#include "engine/io/h5md_file.hpp"
-#include "engine/run/output_file.hpp"
-#include "engine/run/run.hpp"
 #include "engine/core/state_map.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
 #include "engine/core/world.hpp"
+#include "engine/io/h5md_file.hpp"
 #include "engine/io/xdmf_export.hpp"
+#include "engine/run/output_file.hpp"
+#include "engine/run/run.hpp"
 #include "systems/srd/srd_cells.hpp"
 
 namespace granflow::srd {

@@ -15,9 +15,9 @@
 #include "components/image_count.hpp"
 #include "components/particle_id.hpp"
 #include "engine/core/config.hpp"
+#include "engine/core/units.hpp"
 #include "engine/io/h5md_file.hpp"
 #include "engine/run/run.hpp"
-#include "engine/core/units.hpp"
 #include "systems/observables/particle_frames.hpp"
 #include "systems/srd/srd_cells.hpp"
 

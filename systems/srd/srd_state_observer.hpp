@@ -12,8 +12,8 @@
 
 #include <cmath>
 
-#include "components/mass.hpp"
 #include "components/clock.hpp"
+#include "components/mass.hpp"
 #include "components/velocity.hpp"
 #include "engine/core/deterministic_sum.hpp"
 #include "engine/core/observable_store.hpp"

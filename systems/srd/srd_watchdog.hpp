@@ -19,11 +19,11 @@
 
 #include "components/clock.hpp"
 #include "engine/core/observable_store.hpp"
-#include "engine/run/run.hpp"
-#include "engine/run/run_control.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/world.hpp"
+#include "engine/run/run.hpp"
+#include "engine/run/run_control.hpp"
 #include "systems/srd/srd_cells.hpp"
 #include "systems/srd/srd_state_observer.hpp"
 

@@ -20,10 +20,10 @@
 #include "components/image_count.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
-#include "engine/run/run_control.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/world.hpp"
+#include "engine/run/run_control.hpp"
 #include "systems/srd/srd_cells.hpp"
 
 namespace granflow::srd {

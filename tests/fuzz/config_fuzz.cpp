@@ -12,8 +12,8 @@
 #include <cstdint>
 #include <string>
 
-#include "engine/core/config.hpp"
 #include "engine/app/sweep_file.hpp"
+#include "engine/core/config.hpp"
 
 namespace {
 

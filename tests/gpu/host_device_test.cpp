@@ -13,13 +13,13 @@
 #include <vector>
 
 #include "cuda/device_query.cuh"
-#include "tests/gpu/host_device_check.cuh"
-#include "tests/gpu/srd_check_step.cuh"
 #include "engine/core/rng.hpp"
 #include "engine/core/stream_ids.hpp"
 #include "systems/edmd/collision_rule.hpp"
 #include "systems/sde/gaussian_noise.hpp"
 #include "systems/sde/sde_model.hpp"
+#include "tests/gpu/host_device_check.cuh"
+#include "tests/gpu/srd_check_step.cuh"
 
 namespace granflow::cuda {
 namespace {

@@ -6,10 +6,10 @@
 
 #include <cstdint>
 
-#include "tests/gpu/host_device_check.cuh"
 #include "engine/core/host_device.hpp"
 #include "systems/srd/srd_kernels.hpp"
 #include "systems/srd/srd_walls.hpp"
+#include "tests/gpu/host_device_check.cuh"
 
 namespace granflow::cuda::srd {
 

@@ -15,8 +15,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "tests/scenario_schema.hpp"
 #include "scenarios/brownian_edmd.hpp"
+#include "tests/scenario_schema.hpp"
 
 namespace granflow::scenarios {
 namespace {

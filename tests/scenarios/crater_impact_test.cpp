@@ -9,12 +9,12 @@
 #include <cmath>
 #include <vector>
 
-#include "tests/scenario_schema.hpp"
 #include "components/mass.hpp"
 #include "components/velocity.hpp"
 #include "systems/edmd/crater_bed.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/observables/kinetic_energy.hpp"
+#include "tests/scenario_schema.hpp"
 
 namespace granflow::scenarios {
 namespace {

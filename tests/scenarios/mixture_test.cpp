@@ -10,11 +10,11 @@
 #include <cstdio>
 #include <vector>
 
-#include "tests/scenario_schema.hpp"
 #include "engine/core/sample_statistics.hpp"
 #include "scenarios/mixture.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/observables/species_kinetic_energy.hpp"
+#include "tests/scenario_schema.hpp"
 
 namespace granflow::scenarios {
 namespace {

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "tests/scenario_schema.hpp"
 #include "scenarios/scattering.hpp"
+#include "tests/scenario_schema.hpp"
 
 namespace granflow::scenarios {
 namespace {

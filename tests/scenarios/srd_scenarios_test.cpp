@@ -28,14 +28,14 @@
 #include <numbers>
 #include <string>
 
-#include "tests/scenario_schema.hpp"
-#include "engine/io/h5md_reader.hpp"
 #include "engine/core/rng.hpp"
+#include "engine/io/h5md_reader.hpp"
 #include "engine/run/runner.hpp"
 #include "systems/initial/initial_velocities.hpp"
 #include "systems/observables/maxwell_boltzmann.hpp"
 #include "systems/srd/srd_setup.hpp"
 #include "systems/srd/srd_theory.hpp"
+#include "tests/scenario_schema.hpp"
 #include "tests/scratch_directory.hpp"
 
 namespace granflow {

@@ -13,9 +13,9 @@
 
 #include "components/velocity.hpp"
 #include "engine/app/cli.hpp"
+#include "engine/core/units.hpp"
 #include "engine/run/run.hpp"
 #include "engine/run/scenario.hpp"
-#include "engine/core/units.hpp"
 #include "systems/edmd/event_driven_run.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/observables/kinetic_energy.hpp"

@@ -22,11 +22,11 @@
 #include <string>
 #include <vector>
 
-#include "tests/scenario_schema.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 #include "systems/edmd/gas_setup.hpp"
 #include "systems/edmd/kinetic_theory.hpp"
 #include "systems/observables/kinetic_energy.hpp"
+#include "tests/scenario_schema.hpp"
 
 namespace granflow::edmd {
 namespace {

@@ -10,15 +10,15 @@
 
 #include <cmath>
 
-#include "tests/scenario_schema.hpp"
 #include "components/clock.hpp"
+#include "engine/core/rng.hpp"
 #include "engine/run/run_control.hpp"
 #include "scenarios/sde_msd.hpp"
-#include "systems/sde/sde_parameters.hpp"
-#include "engine/core/rng.hpp"
 #include "systems/sde/gaussian_noise.hpp"
+#include "systems/sde/sde_parameters.hpp"
 #include "systems/sde/sde_step.hpp"
 #include "systems/sde/sde_theory.hpp"
+#include "tests/scenario_schema.hpp"
 
 namespace granflow::sde {
 namespace {
