@@ -50,9 +50,11 @@
 #include "engine/core/page_release.hpp"
 #include "engine/core/state_map.hpp"
 #include "engine/core/world.hpp"
+#include "systems/edmd/advance_limits.hpp"
 #include "systems/edmd/candidate_list.hpp"
 #include "systems/edmd/cell_grid.hpp"
 #include "systems/edmd/collapse_monitor.hpp"
+#include "systems/edmd/collision_parameters.hpp"
 #include "systems/edmd/collision_rule.hpp"
 #include "systems/edmd/contact_search.hpp"
 #include "systems/edmd/event_calendar.hpp"
@@ -60,76 +62,6 @@
 #include "systems/edmd/occupied_cells.hpp"
 
 namespace granflow::edmd {
-
-struct CollisionParameters {
-  double restitution = 1.0;
-  double wall_restitution = 1.0;
-  // TC model (Luding & McNamara 1998): a collision within contact_time of
-  // either particle's previous collision is elastic.
-  double contact_time = 0.0;
-  // A collision rate this many times the rate expected from the kinetic
-  // energy is taken as inelastic collapse.
-  double collapse_rate_factor = 1000.0;
-
-  // collision.* keys, declared once for every event-driven scenario with that scenario's defaults.
-  static void declare(ConfigSchema& schema, const CollisionParameters& defaults);
-  static CollisionParameters from(const Config& config);
-};
-
-inline void CollisionParameters::declare(ConfigSchema& schema, const CollisionParameters& d) {
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  schema.real("collision.restitution", d.restitution, 0.0, 1.0, "normal restitution coefficient xi")
-      .real("collision.wall_restitution", d.wall_restitution, 0.0, 1.0,
-            "restitution of reflecting walls: the whole velocity is scaled by it (Poeschel & Schwager 2005)")
-      .real("collision.contact_time", d.contact_time, 0.0, inf,
-            "TC model (Luding & McNamara 1998): collisions within this time of a particle's previous collision "
-            "are elastic")
-      .real_or_infinite("collision.collapse_rate_factor", d.collapse_rate_factor, 10.0,
-                        "collision-rate increase (at equal thermal speed) that is reported as inelastic collapse");
-}
-
-inline CollisionParameters CollisionParameters::from(const Config& config) {
-  CollisionParameters p;
-  p.restitution = config.real("collision.restitution");
-  p.wall_restitution = config.real("collision.wall_restitution");
-  p.contact_time = config.real("collision.contact_time");
-  p.collapse_rate_factor = config.real("collision.collapse_rate_factor");
-  return p;
-}
-
-struct EventStatistics {
-  std::uint64_t pair_collisions = 0;
-  std::uint64_t wall_collisions = 0;
-  std::uint64_t cell_crossings = 0;
-  std::uint64_t stale_events = 0;
-  double dissipated_energy = 0.0;  // in pair collisions
-  double wall_dissipated_energy = 0.0;
-  double virial = 0.0;  // sum over collisions of r_ij . delta p_i
-
-  std::uint64_t events() const { return pair_collisions + wall_collisions + cell_crossings + stale_events; }
-};
-
-// One velocity-changing event, reported with stable particle ids.
-struct EventRecord {
-  double time;
-  std::uint32_t first;
-  std::uint32_t second;  // wall_partner for a wall collision
-  static constexpr std::uint32_t wall_partner = std::numeric_limits<std::uint32_t>::max();
-};
-
-enum class StopReason { reached_time, collision_limit, energy_limit, collapse, no_events, interrupted };
-
-struct AdvanceLimits {
-  std::uint64_t max_pair_collisions = std::numeric_limits<std::uint64_t>::max();
-  double min_kinetic_energy = -1.0;
-  // When set, advance() returns between two events (state consistent, not synchronised).
-  const std::atomic<bool>* interrupt = nullptr;
-};
-
-class InelasticCollapse : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 template <int D>
 class EventDrivenGas : public Stateful {
@@ -239,104 +171,11 @@ class EventDrivenGas : public Stateful {
   // The cell lists keep their order too: it is the order in which a
   // prediction meets its candidates, and a resumed run follows the
   // uninterrupted one bit for bit only if its predictions do.
-  StateMap save_state() const override {
-    StateMap out;
-    const std::size_t n = world_.size();
-    auto& hot = out["hot"];
-    auto& plan = out["plan"];
-    auto& cell = out["cell"];
-    auto& event = out["event_time"];
-    for (std::size_t i = 0; i < n; ++i) {
-      const MotionRecord<D> record = motion_of(i);
-      for (int a = 0; a < D; ++a) hot.push_back(record.x[a]);
-      for (int a = 0; a < D; ++a) hot.push_back(record.v[a]);
-      hot.push_back(record.t);
-      hot.push_back(record.r);
-      plan.insert(plan.end(), {plan_[i].collision_time, static_cast<double>(plan_[i].partner),
-                               static_cast<double>(plan_[i].partner_count), static_cast<double>(event_kind_[i])});
-      cell.push_back(static_cast<double>(grid_.serial(grid_.cell_of(static_cast<std::uint32_t>(i)))));
-      event.push_back(calendar_.time_of(static_cast<std::uint32_t>(i)));
-    }
-    // Each particle's place in its cell's list, 0 at the head.
-    auto& place = out["cell_place"];
-    place.assign(n, 0.0);
-    std::vector<bool> counted(n, false);
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint32_t c = grid_.cell_of(static_cast<std::uint32_t>(i));
-      if (counted[i]) continue;
-      double k = 0.0;
-      for (std::int32_t m = grid_.head(c); m >= 0; m = grid_.next(static_cast<std::uint32_t>(m)), k += 1.0) {
-        place[static_cast<std::size_t>(m)] = k;
-        counted[static_cast<std::size_t>(m)] = true;
-      }
-    }
-    const auto& s = statistics_;
-    out["scalars"] = {now_, kinetic_energy_, static_cast<double>(next_resort_), static_cast<double>(s.pair_collisions),
-                      static_cast<double>(s.wall_collisions), static_cast<double>(s.cell_crossings),
-                      static_cast<double>(s.stale_events), s.dissipated_energy, s.wall_dissipated_energy, s.virial};
-    out["collapse"] = collapse_.state();
-    return out;
-  }
+  StateMap save_state() const override;
 
   // Continues from save_state() output; the World must hold the components
   // as they were when it was saved.
-  void restore_state(const StateMap& in) override {
-    const std::size_t n = world_.size();
-    const auto& radius = world_.template component<Radius>();
-    const double max_radius = n ? *std::max_element(radius.values.begin(), radius.values.end()) : 0.0;
-    grid_.reset(world_.template resource<Box<D>>(), 2.0 * max_radius, n);
-    const auto& hot = in.at("hot");
-    const auto& plan = in.at("plan");
-    const auto& cell = in.at("cell");
-    if (hot.size() != n * (2 * D + 2) || plan.size() != 4 * n || cell.size() != n || in.at("event_time").size() != n ||
-        in.at("scalars").size() != 10)
-      throw std::invalid_argument("checkpoint does not match the number of particles");
-    validate_state(in);
-    now_ = in.at("scalars").at(0);
-    bind();
-    plan_.assign(n, Plan{never, 0, 0});
-    event_kind_.assign(n, EventKind::none);
-    for (std::size_t i = 0; i < n; ++i) {
-      const double* h = &hot[i * (2 * D + 2)];
-      for (int a = 0; a < D; ++a) hot_[i].x[a] = h[a];
-      for (int a = 0; a < D; ++a) hot_[i].v[a] = h[D + a];
-      hot_[i].t = h[2 * D];
-      hot_[i].r = h[2 * D + 1];
-      plan_[i] = Plan{plan[4 * i], static_cast<std::uint32_t>(plan[4 * i + 1]),
-                      static_cast<std::uint32_t>(plan[4 * i + 2])};
-      event_kind_[i] = static_cast<EventKind>(plan[4 * i + 3]);
-    }
-    // Lists grow at their heads: inserting from the tail end rebuilds each
-    // in its saved order (checkpoints without places get index order).
-    std::vector<std::uint32_t> order(n);
-    std::iota(order.begin(), order.end(), 0u);
-    if (const auto place = in.find("cell_place"); place != in.end())
-      std::stable_sort(order.begin(), order.end(),
-                       [&](std::uint32_t a, std::uint32_t b) { return place->second[a] > place->second[b]; });
-    for (const std::uint32_t i : order) grid_.insert(i, grid_.from_serial(static_cast<std::uint64_t>(cell[i])));
-    const auto& s = in.at("scalars");
-    calendar_.rebuild(now_, in.at("event_time"));
-    kinetic_energy_ = s.at(1);
-    next_resort_ = static_cast<std::uint64_t>(s.at(2));
-    statistics_.pair_collisions = static_cast<std::uint64_t>(s.at(3));
-    statistics_.wall_collisions = static_cast<std::uint64_t>(s.at(4));
-    statistics_.cell_crossings = static_cast<std::uint64_t>(s.at(5));
-    statistics_.stale_events = static_cast<std::uint64_t>(s.at(6));
-    statistics_.dissipated_energy = s.at(7);
-    statistics_.wall_dissipated_energy = s.at(8);
-    statistics_.virial = s.at(9);
-    collapse_.restore(in.at("collapse"));
-    // A state saved at a synchronisation (every record at now_) is handed to
-    // the World, which moves nothing, as after start(). One saved between
-    // events (an interrupted run) stays in the records, where the run goes
-    // on from it exactly as it would have without the interruption; the
-    // World's motion columns are then not current until synchronize().
-    if (std::all_of(hot_.begin(), hot_.begin() + static_cast<std::ptrdiff_t>(n),
-                    [&](const MotionRecord<D>& record) { return record.t == now_; })) {
-      publish(true);
-      kinetic_energy_ = s.at(1);
-    }
-  }
+  void restore_state(const StateMap& in) override;
 
   // Re-sort every `pair_collisions` collisions whatever the size (0: the
   // automatic choice, which re-sorts only gases larger than the cache);
@@ -352,65 +191,11 @@ class EventDrivenGas : public Stateful {
 
   // Refuses a saved state that could not have come from a run (damaged or
   // crafted), naming what is wrong, before any of it is used as an index.
-  void validate_state(const StateMap& in) const {
-    const std::size_t n = world_.size();
-    const auto fail = [](const std::string& what) { throw std::invalid_argument("event-driven state: " + what); };
-    const auto& box = world_.template resource<Box<D>>();
-    const auto& mass = world_.template component<Mass>();
-    const auto& id = world_.template component<ParticleId>();
-    std::vector<bool> seen(n, false);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!(mass[i] > 0) || !std::isfinite(mass[i])) fail(fmt::format("particle {} has mass {}", i, mass[i]));
-      if (id[i] >= n || seen[id[i]]) fail(fmt::format("particle id {} at {} is out of range or repeated", id[i], i));
-      seen[id[i]] = true;
-    }
-    const auto& s = in.at("scalars");
-    const double now = s.at(0);
-    if (!std::isfinite(now) || !(s.at(1) >= 0) || !std::isfinite(s.at(1)))
-      fail(fmt::format("time {} or kinetic energy {} is impossible", now, s.at(1)));
-    for (double v : s)
-      if (!std::isfinite(v)) fail("a counter is not finite");
-    const auto& hot = in.at("hot");
-    for (std::size_t i = 0; i < n; ++i) {
-      const double* h = &hot[i * (2 * D + 2)];
-      for (int a = 0; a < D; ++a) {
-        const double slack = 1e-9 * box.length[a];
-        if (!(h[a] >= -slack && h[a] <= box.length[a] + slack))
-          fail(fmt::format("particle {} is at {} on axis {}, outside the box [0, {}]", i, h[a], a, box.length[a]));
-        if (!std::isfinite(h[D + a])) fail(fmt::format("particle {} has a velocity that is not finite", i));
-      }
-      if (!std::isfinite(h[2 * D]) || h[2 * D] > now) fail(fmt::format("particle {} has local time {}", i, h[2 * D]));
-      if (!(h[2 * D + 1] > 0) || !std::isfinite(h[2 * D + 1])) fail(fmt::format("particle {} has radius {}", i, h[2 * D + 1]));
-    }
-    const auto& plan = in.at("plan");
-    const auto& cell = in.at("cell");
-    const auto& event = in.at("event_time");
-    const auto cells = static_cast<double>(grid_.cell_total());
-    if (const auto place = in.find("cell_place"); place != in.end()) {
-      if (place->second.size() != n) fail("cell list places do not match the number of particles");
-      for (std::size_t i = 0; i < n; ++i)
-        if (!(place->second[i] >= 0 && place->second[i] < static_cast<double>(n)))
-          fail(fmt::format("particle {} has cell list place {}", i, place->second[i]));
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      if (std::isnan(plan[4 * i]) || !(plan[4 * i + 1] >= 0 && plan[4 * i + 1] < static_cast<double>(n)) ||
-          plan[4 * i + 1] != std::floor(plan[4 * i + 1]) || !(plan[4 * i + 2] >= 0) ||
-          !(plan[4 * i + 3] >= 0 && plan[4 * i + 3] < static_cast<double>(crossing_kind(D - 1, true)) + 1) ||
-          plan[4 * i + 3] != std::floor(plan[4 * i + 3]))
-        fail(fmt::format("particle {} has an impossible planned event", i));
-      if (!(cell[i] >= 0 && cell[i] < cells) || cell[i] != std::floor(cell[i]))
-        fail(fmt::format("particle {} is in cell {} of {}", i, cell[i], cells));
-      if (std::isnan(event[i]) || event[i] < now) fail(fmt::format("particle {} has event time {}", i, event[i]));
-    }
-  }
+  void validate_state(const StateMap& in) const;
 
   // Memory the engine and the components it uses hold per particle while
   // events run (the World's positions and velocities are then released).
-  std::size_t bytes_per_particle() const {
-    return world_.component_bytes_per_entity() - 2 * sizeof(Vec<D>) +
-           sizeof(MotionRecord<D>) + sizeof(Plan) + sizeof(EventKind) + grid_.bytes_per_particle() +
-           calendar_.bytes_per_particle();
-  }
+  std::size_t bytes_per_particle() const;
 
  private:
   // Event kinds: a collision with `partner_`, a wall on axis k (wall + k), or
@@ -463,27 +248,7 @@ class EventDrivenGas : public Stateful {
     next_resort_ = statistics_.pair_collisions + resort_interval();
   }
 
-  void bind() {
-    if (world_.size() >= CandidateList::max_records<D>)
-      throw std::invalid_argument(fmt::format("an event-driven gas holds fewer than {} particles, not {}",
-                                              CandidateList::max_records<D>, world_.size()));
-    mass_ = world_.template component<Mass>().data();
-    count_ = world_.template component<CollisionCount>().data();
-    last_collision_ =
-        parameters_.contact_time > 0.0 ? world_.template component<LastCollisionTime>().data() : nullptr;
-    id_ = world_.template component<ParticleId>().data();
-    // Periodic images are counted only where a scenario asks for them (MSD).
-    image_ = world_.template has_component<ImageCount<D>>() ? world_.template component<ImageCount<D>>().data()
-                                                            : nullptr;
-    box_ = world_.template resource<Box<D>>();
-    walled_ = !std::all_of(box_.periodic.begin(), box_.periodic.end(), [](bool p) { return p; });
-    // One record more, the sentinel that pads the candidate list: its NaN
-    // position fails every contact test.
-    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
-    hot_.resize(world_.size() + 1);
-    hot_[world_.size()] = {Vec<D>::Constant(nan), Vec<D>::Zero(), 0.0, 0.0};
-    take_back();
-  }
+  void bind();
 
   // The records and the World's Position and Velocity hold the motion in
   // turn, copied a block at a time with each block's source released as it
@@ -499,70 +264,19 @@ class EventDrivenGas : public Stateful {
   // From the records to the World, every particle moved to now_ first;
   // `release_records`: whether the records' pages, and at the next
   // take_back() the World's, go back to the system.
-  void publish(bool release_records) {
-    auto& position = world_.template component<Position<D>>();
-    auto& velocity = world_.template component<Velocity<D>>();
-    const std::size_t n = world_.size();
-    double energy = 0.0;
-    for (std::size_t begin = 0; begin < n; begin += handover_block) {
-      const std::size_t end = std::min(n, begin + handover_block);
-      for (std::size_t i = begin; i < end; ++i) {
-        advance_particle(static_cast<std::uint32_t>(i));
-        position[i] = hot_[i].x;
-        velocity[i] = hot_[i].v;
-        energy += 0.5 * mass_[i] * hot_[i].v.squaredNorm();
-      }
-      if (release_records) release_pages(&hot_[begin], (end - begin) * sizeof(MotionRecord<D>));
-    }
-    kinetic_energy_ = energy;
-    records_hold_motion_ = false;
-    release_world_motion_ = release_records;
-  }
+  void publish(bool release_records);
 
   // From the World (all particles at now_) to the records.
-  void take_back() {
-    auto& position = world_.template component<Position<D>>();
-    auto& velocity = world_.template component<Velocity<D>>();
-    const auto& radius = world_.template component<Radius>();
-    const std::size_t n = world_.size();
-    for (std::size_t begin = 0; begin < n; begin += handover_block) {
-      const std::size_t end = std::min(n, begin + handover_block);
-      for (std::size_t i = begin; i < end; ++i) hot_[i] = {position[i], velocity[i], now_, radius[i]};
-      if (!release_world_motion_) continue;
-      release_pages(&position[begin], (end - begin) * sizeof(Vec<D>));
-      release_pages(&velocity[begin], (end - begin) * sizeof(Vec<D>));
-    }
-    records_hold_motion_ = true;
-    events_at_take_back_ = statistics_.events();
-  }
+  void take_back();
 
   // Particle i's record, from wherever the motion is held.
-  MotionRecord<D> motion_of(std::size_t i) const {
-    if (records_hold_motion_) return hot_[i];
-    return {world_.template component<Position<D>>()[i], world_.template component<Velocity<D>>()[i], now_,
-            world_.template component<Radius>()[i]};
-  }
+  MotionRecord<D> motion_of(std::size_t i) const;
 
   // Z-order (Morton) of the cells: a cell's neighbours in every direction
   // lie in a few short runs of memory, not in 3^(D-1) rows far apart.
-  static std::uint64_t morton_key(const std::array<std::int32_t, D>& c) {
-    std::uint64_t code = 0;
-    for (int bit = 0; bit < 21; ++bit)
-      for (int a = 0; a < D; ++a)
-        code |= static_cast<std::uint64_t>((c[a] >> bit) & 1) << (bit * D + a);
-    return code;
-  }
+  static std::uint64_t morton_key(const std::array<std::int32_t, D>& c);
 
-  void sort_by_cell() {
-    const auto& position = world_.template component<Position<D>>();
-    std::vector<std::uint64_t> morton(world_.size());
-    for (std::size_t i = 0; i < world_.size(); ++i)
-      morton[i] = morton_key(grid_.coordinates(grid_.locate(position[i])));
-    std::vector<std::uint32_t> order(world_.size());
-    std::iota(order.begin(), order.end(), 0u);
-    std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return morton[a] < morton[b]; });
-    world_.permute(order);
-  }
+  void sort_by_cell();
 
   // Asks the memory for what particle k's event will read first, a few
   // events before it comes: events come in time order, so their particles'
