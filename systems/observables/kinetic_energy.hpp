@@ -9,6 +9,7 @@
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 
 namespace granflow {
@@ -16,24 +17,27 @@ namespace granflow {
 inline const SystemDescription observe_kinetic_energy_description{"observe_kinetic_energy", "mean kinetic energy per particle and temperature T = (2/d)<E_kin>"};
 
 template <int D>
+double total_kinetic_energy(const Velocity<D>& v, const Mass& m) {
+  return deterministic_sum(v.size(), [&](std::size_t i) { return 0.5 * m[i] * v[i].squaredNorm(); });
+}
+template <int D>
 double total_kinetic_energy(const World& world) {
-  const auto& v = world.component<Velocity<D>>();
-  const auto& m = world.component<Mass>();
-  return deterministic_sum(world.size(), [&](std::size_t i) { return 0.5 * m[i] * v[i].squaredNorm(); });
+  return total_kinetic_energy<D>(world.component<Velocity<D>>(), world.component<Mass>());
 }
 
 template <int D>
-class KineticEnergyObserver : public System {
+class KineticEnergyObserver : public SystemOf<Reads<Velocity<D>, Mass>, Writes<>> {
  public:
+  using View = typename SystemOf<Reads<Velocity<D>, Mass>, Writes<>>::View;
   std::string name() const override { return "observe_kinetic_energy"; }
   Access access() const override {
-    return Access{}.reads<Velocity<D>, Mass>().writes_observable("kinetic_energy", unit::energy).writes_observable("temperature", unit::energy);
+    return View::access().writes_observable("kinetic_energy", unit::energy).writes_observable("temperature", unit::energy);
   }
-  void run(World& world) override {
-    const double mean = world.size() ? total_kinetic_energy<D>(world) / static_cast<double>(world.size()) : 0.0;
-    auto& store = world.resource<ObservableStore>();
-    store.set("kinetic_energy", mean);
-    store.set("temperature", 2.0 / D * mean);
+  void run(View view) override {
+    const double total = total_kinetic_energy<D>(view.template read<Velocity<D>>(), view.template read<Mass>());
+    const double mean = view.size() ? total / static_cast<double>(view.size()) : 0.0;
+    view.observables().set("kinetic_energy", mean);
+    view.observables().set("temperature", 2.0 / D * mean);
   }
 };
 

@@ -12,6 +12,7 @@
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 
 namespace granflow {
@@ -19,31 +20,35 @@ namespace granflow {
 inline const SystemDescription observe_kinetic_energy_by_species_description{"observe_kinetic_energy_by_species", "mean kinetic energy per particle of each species of a mixture"};
 
 template <int D>
-std::vector<double> species_kinetic_energies(const World& world, std::size_t species_count) {
-  const auto& v = world.component<Velocity<D>>();
-  const auto& m = world.component<Mass>();
-  const auto& species = world.component<Species>();
+std::vector<double> species_kinetic_energies(const Velocity<D>& v, const Mass& m, const Species& species,
+                                             std::size_t species_count) {
   std::vector<double> energy(species_count, 0.0), members(species_count, 0.0);
-  for (std::size_t i = 0; i < world.size(); ++i) {
+  for (std::size_t i = 0; i < v.size(); ++i) {
     energy[species[i]] += 0.5 * m[i] * v[i].squaredNorm();
     members[species[i]] += 1.0;
   }
   for (std::size_t s = 0; s < species_count; ++s) energy[s] = members[s] > 0 ? energy[s] / members[s] : 0.0;
   return energy;
 }
+template <int D>
+std::vector<double> species_kinetic_energies(const World& world, std::size_t species_count) {
+  return species_kinetic_energies<D>(world.component<Velocity<D>>(), world.component<Mass>(),
+                                     world.component<Species>(), species_count);
+}
 
 template <int D>
-class SpeciesKineticEnergyObserver : public System {
+class SpeciesKineticEnergyObserver : public SystemOf<Reads<Velocity<D>, Mass, Species>, Writes<>> {
  public:
+  using View = typename SystemOf<Reads<Velocity<D>, Mass, Species>, Writes<>>::View;
   static constexpr const char* observable = "kinetic_energy_by_species";
   explicit SpeciesKineticEnergyObserver(std::size_t species_count) : species_count_(species_count) {}
 
   std::string name() const override { return "observe_kinetic_energy_by_species"; }
-  Access access() const override {
-    return Access{}.reads<Velocity<D>, Mass, Species>().writes_observable(observable, unit::energy);
-  }
-  void run(World& world) override {
-    world.resource<ObservableStore>().set(observable, species_kinetic_energies<D>(world, species_count_));
+  Access access() const override { return View::access().writes_observable(observable, unit::energy); }
+  void run(View view) override {
+    view.observables().set(observable, species_kinetic_energies<D>(view.template read<Velocity<D>>(),
+                                                                   view.template read<Mass>(),
+                                                                   view.template read<Species>(), species_count_));
   }
 
  private:
