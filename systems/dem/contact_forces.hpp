@@ -253,10 +253,8 @@ class DemContactForces : public System {
         const double cv[3] = {relative[0] - (spin[1] * normal[2] - spin[2] * normal[1]),
                               relative[1] - (spin[2] * normal[0] - spin[0] * normal[2]),
                               relative[2] - (spin[0] * normal[1] - spin[1] * normal[0])};
-        const bool lsd = law.model == ContactModel::lsd;
-        const double k_n = lsd ? law.stiffness : law.stiffness * std::sqrt(delta);
-        const double g_n = lsd ? law.gamma(m_eff) : 1.5 * law.damping * law.stiffness * std::sqrt(delta);
-        const TangentialFriction::Result tr = friction.apply(nl.shear[p], cv, normal, r.force, k_n, g_n);
+        const TangentialFriction::Result tr = friction.apply(nl.shear[p], cv, normal, r.force,
+                                                             law.normal_stiffness(delta), law.normal_damping(delta, m_eff));
         const Vec<3> fp(r.force * normal[0] + tr.force[0], r.force * normal[1] + tr.force[1],
                         r.force * normal[2] + tr.force[2]);
         const Vec<3> turn(-(normal[1] * tr.force[2] - normal[2] * tr.force[1]),
@@ -372,12 +370,9 @@ class DemContactForces : public System {
           double cv[3] = {vi[0] - ri * (o[1] * nw[2] - o[2] * nw[1]), vi[1] - ri * (o[2] * nw[0] - o[0] * nw[2]),
                           vi[2] - ri * (o[0] * nw[1] - o[1] * nw[0])};
           if (!w.divider) cv[w.axis] -= speed;
-          const bool lsd = w.law.model == ContactModel::lsd;
-          const double k_n = lsd ? w.law.stiffness : w.law.stiffness * std::sqrt(contact.overlap);
-          const double g_n =
-              lsd ? w.law.gamma(mi) : 1.5 * w.law.damping * w.law.stiffness * std::sqrt(contact.overlap);
           const TangentialFriction::Result tr =
-              friction.apply(nl.wall_shear[i * walls + wi], cv, nw, r.force, k_n, g_n);
+              friction.apply(nl.wall_shear[i * walls + wi], cv, nw, r.force, w.law.normal_stiffness(contact.overlap),
+                             w.law.normal_damping(contact.overlap, mi));
           for (int a = 0; a < 3; ++a) force[i][a] += tr.force[a];
           torque[i] += Vec<3>(-ri * (nw[1] * tr.force[2] - nw[2] * tr.force[1]),
                               -ri * (nw[2] * tr.force[0] - nw[0] * tr.force[2]),

@@ -58,9 +58,18 @@ struct ContactLaw {
   GRANFLOW_HD Result lsd(double delta, double rate, double g) const {
     return {stiffness * delta + g * rate, 0.5 * stiffness * delta * delta, g * rate * rate};
   }
+  // The normal stiffness and dashpot constant at overlap delta, which the
+  // tangential spring scales with (Hertz: both grow as sqrt(delta)).
+  GRANFLOW_HD double normal_stiffness(double delta) const {
+    return model == ContactModel::lsd ? stiffness : stiffness * std::sqrt(delta);
+  }
+  GRANFLOW_HD double normal_damping(double delta, double m_eff) const {
+    return model == ContactModel::lsd ? gamma(m_eff) : hertz_damping(std::sqrt(delta));
+  }
+  GRANFLOW_HD double hertz_damping(double root_delta) const { return 1.5 * damping * stiffness * root_delta; }
   GRANFLOW_HD Result hertz(double delta, double rate) const {
     const double root = std::sqrt(delta);
-    const double g = 1.5 * damping * stiffness * root;
+    const double g = hertz_damping(root);
     return {stiffness * delta * root + g * rate, 0.4 * stiffness * delta * delta * root, g * rate * rate};
   }
 };
