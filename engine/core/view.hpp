@@ -8,7 +8,7 @@
 // from function signatures).
 //
 //   class Thermostat : public SystemOf<Reads<Mass>, Writes<Velocity<3>, SrdCells<3>>> {
-//     void run(View view) override { view.write<Velocity<3>>() ... }
+//     void run_on(View view) override { view.write<Velocity<3>>() ... }
 //   };
 
 #include <type_traits>
@@ -83,8 +83,9 @@ class SystemOf : public System {
  public:
   using View = granflow::View<R, W>;
   Access access() const override { return View::access(); }
-  void run(World& world) final { run(View(world)); }
-  virtual void run(View view) = 0;
+  void run(World& world) final { run_on(View(world)); }
+  // Named apart from run(World&) so that a subclass does not hide it.
+  virtual void run_on(View view) = 0;
 };
 
 }  // namespace granflow

@@ -33,7 +33,7 @@ class KineticEnergyObserver : public SystemOf<Reads<Velocity<D>, Mass>, Writes<>
   Access access() const override {
     return View::access().writes_observable("kinetic_energy", unit::energy).writes_observable("temperature", unit::energy);
   }
-  void run(View view) override {
+  void run_on(View view) override {
     const double total = total_kinetic_energy<D>(view.template read<Velocity<D>>(), view.template read<Mass>());
     const double mean = view.size() ? total / static_cast<double>(view.size()) : 0.0;
     view.observables().set("kinetic_energy", mean);

@@ -45,7 +45,7 @@ class SpeciesKineticEnergyObserver : public SystemOf<Reads<Velocity<D>, Mass, Sp
 
   std::string name() const override { return "observe_kinetic_energy_by_species"; }
   Access access() const override { return View::access().writes_observable(observable, unit::energy); }
-  void run(View view) override {
+  void run_on(View view) override {
     view.observables().set(observable, species_kinetic_energies<D>(view.template read<Velocity<D>>(),
                                                                    view.template read<Mass>(),
                                                                    view.template read<Species>(), species_count_));

@@ -28,6 +28,7 @@
 #include "engine/core/stream_ids.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "engine/run/run_control.hpp"
 #include "systems/sde/sde_kernel.hpp"
@@ -38,30 +39,33 @@ namespace granflow::sde {
 inline const SystemDescription sde_advance_description{"sde_advance", "one Langevin / UDSBM step of independent particles (Euler-Maruyama or exact OU), parallel_for"};
 
 template <int D>
-class SdeAdvance : public System {
+class SdeAdvance : public SystemOf<Reads<>, Writes<Position<D>, Velocity<D>, Clock>> {
  public:
+  using View = typename SystemOf<Reads<>, Writes<Position<D>, Velocity<D>, Clock>>::View;
   SdeAdvance(SdeModel model, Scheme scheme, double dt, std::uint64_t seed)
       : model_(model), scheme_(scheme), dt_(dt), seed_(seed) {}
 
   std::string name() const override { return "sde_advance"; }
-  Access access() const override { return Access{}.writes<Position<D>, Velocity<D>, Clock>(); }
 
   // One step; the Runner calls it until its target step.
-  void run(World& world) override {
-    auto& clock = world.resource<Clock>();
-    step(world, clock.step);
+  void run_on(View view) override {
+    auto& clock = view.template write<Clock>();
+    step(view.template write<Position<D>>(), view.template write<Velocity<D>>(), clock.step);
     ++clock.step;
     // Steps are counted, not times summed, so output times land on steps exactly.
     clock.time = static_cast<double>(clock.step) * dt_;
   }
 
   void step(World& world, std::int64_t step_index) {
+    step(world.component<Position<D>>(), world.component<Velocity<D>>(), step_index);
+  }
+  void step(Position<D>& position, Velocity<D>& velocity, std::int64_t step_index) {
     // Eigen's fixed-size vectors are D packed doubles: the columns are flat arrays.
-    double* x = world.component<Position<D>>().data()->data();
-    double* v = world.component<Velocity<D>>().data()->data();
+    double* x = position.data()->data();
+    double* v = velocity.data()->data();
     const StepInput input{model_, scheme_, static_cast<double>(step_index) * dt_, dt_, seed_,
                           static_cast<std::uint64_t>(step_index)};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 4096), [=](const auto& range) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, position.size(), 4096), [=](const auto& range) {
       sde_step_range<D>(x, v, range.begin(), range.end(), input);
     });
   }

@@ -11,6 +11,7 @@
 #include "engine/core/stream_ids.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "systems/srd/srd_cells.hpp"
 
@@ -20,15 +21,16 @@ inline const SystemDescription srd_grid_shift_description{
     "srd_grid_shift", "random shift of the SRD grid in [-a/2, a/2)^d each step (Ihle-Kroll), keyed by seed and step"};
 
 template <int D>
-class SrdGridShift : public System {
+class SrdGridShift : public SystemOf<Reads<Clock>, Writes<SrdCells<D>>> {
  public:
+  using View = typename SystemOf<Reads<Clock>, Writes<SrdCells<D>>>::View;
   SrdGridShift(std::uint64_t seed, bool enabled) : seed_(seed), enabled_(enabled) {}
 
   std::string name() const override { return "srd_grid_shift"; }
-  Access access() const override { return Access{}.reads<Clock>().template writes<SrdCells<D>>(); }
 
-  void run(World& world) override {
-    draw(world.resource<SrdCells<D>>().shift, seed_, static_cast<std::uint64_t>(world.resource<Clock>().step), enabled_);
+  void run_on(View view) override {
+    draw(view.template write<SrdCells<D>>().shift, seed_, static_cast<std::uint64_t>(view.template read<Clock>().step),
+         enabled_);
   }
 
   // The shift of `step` (zero where the shift is off): what the CPU step and the CUDA step both use.
