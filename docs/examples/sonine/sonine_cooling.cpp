@@ -14,6 +14,7 @@
 #include "components/velocity.hpp"
 #include "engine/app/cli.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/run/run.hpp"
 #include "engine/run/scenario.hpp"
 #include "systems/edmd/event_driven_run.hpp"
@@ -25,19 +26,20 @@ using namespace granflow;
 constexpr int D = 3;
 
 // a2 = d / (d + 2) <v^4> / <v^2>^2 - 1: zero for a Maxwell-Boltzmann gas.
-class SonineObserver : public System {
+// Its view lists what it reads; reading anything else would not compile.
+class SonineObserver : public SystemOf<Reads<Velocity<D>>, Writes<>> {
  public:
   std::string name() const override { return "observe_sonine_a2"; }
-  Access access() const override { return Access{}.reads<Velocity<D>>().writes_observable("sonine_a2", unit::none); }
-  void run(World& world) override {
+  Access access() const override { return View::access().writes_observable("sonine_a2", unit::none); }
+  void run_on(View view) override {
     double v2 = 0.0, v4 = 0.0;
-    for (const auto& v : world.component<Velocity<D>>().values) {
+    for (const auto& v : view.read<Velocity<D>>().values) {
       const double s = v.squaredNorm();
       v2 += s;
       v4 += s * s;
     }
-    const double n = static_cast<double>(world.size());
-    world.resource<ObservableStore>().set("sonine_a2", D / (D + 2.0) * (v4 / n) / ((v2 / n) * (v2 / n)) - 1.0);
+    const double n = static_cast<double>(view.size());
+    view.observables().set("sonine_a2", D / (D + 2.0) * (v4 / n) / ((v2 / n) * (v2 / n)) - 1.0);
   }
 };
 
