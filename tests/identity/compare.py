@@ -3,7 +3,11 @@ same results: every dataset and attribute of every file bit for bit, except
 what says when, where and how fast a file was written (/provenance,
 /profile, /h5md, the file's seal).
 
-  compare.py BEFORE_DIR AFTER_DIR"""
+With --allow-added, entries only AFTER holds (a dataset a change adds
+beside the unchanged ones) are listed but do not fail the comparison; an
+entry that changed or went missing always does.
+
+  compare.py [--allow-added] BEFORE_DIR AFTER_DIR"""
 import os
 import sys
 
@@ -39,7 +43,9 @@ def same(a, b):
     return np.array_equal(a, b)
 
 
-before, after = sys.argv[1:3]
+arguments = [a for a in sys.argv[1:] if a != "--allow-added"]
+allow_added = len(arguments) < len(sys.argv) - 1
+before, after = arguments[:2]
 names = sorted(n for n in os.listdir(before) if n.endswith(".h5md"))
 failures = 0
 for name in names:
@@ -48,11 +54,13 @@ for name in names:
         failures += 1
         continue
     a, b = contents(os.path.join(before, name)), contents(os.path.join(after, name))
-    differ = [k for k in sorted(set(a) | set(b)) if k not in a or k not in b or not same(a[k], b[k])]
+    added = sorted(k for k in b if k not in a) if allow_added else []
+    differ = [k for k in sorted(set(a) | set(b)) if k not in added and (k not in a or k not in b or not same(a[k], b[k]))]
     if differ:
         failures += 1
         print(f"FAIL: {name}: {len(differ)} of {len(a)} entries differ, e.g. {differ[:5]}")
     else:
-        print(f"ok: {name}: {len(a)} datasets and attributes identical")
+        print(f"ok: {name}: {len(a)} datasets and attributes identical" +
+              (f"; {len(added)} added: {added[:5]}" if added else ""))
 print(f"{len(names)} files, {failures} differ")
 sys.exit(1 if failures or not names else 0)
