@@ -13,6 +13,7 @@
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "systems/dem/contact_forces.hpp"
 
@@ -22,23 +23,23 @@ inline const SystemDescription observe_dem_walls_description{
     "observe_dem_walls", "each wall's position along its normal and the normal force the spheres press it with"};
 
 template <int D>
-class DemWallObserver : public System {
+class DemWallObserver : public SystemOf<Reads<Clock, DemInteractions<D>>, Writes<>> {
  public:
+  using View = typename SystemOf<Reads<Clock, DemInteractions<D>>, Writes<>>::View;
   std::string name() const override { return "observe_dem_walls"; }
   Access access() const override {
-    return Access{}
-        .reads<Clock, DemInteractions<D>>()
+    return View::access()
         .writes_observable("wall_position", unit::length)
         .writes_observable("wall_force", unit::force);
   }
-  void run(World& world) override {
-    const auto& in = world.resource<DemInteractions<D>>();
-    const double t = world.resource<Clock>().time;
+  void run_on(View view) override {
+    const auto& in = view.template read<DemInteractions<D>>();
+    const double t = view.template read<Clock>().time;
     std::vector<double> position;
     for (const DemWall& w : in.walls) position.push_back(w.divider ? w.rest : w.position(t));
     std::vector<double> force = in.wall_force;
     force.resize(in.walls.size(), 0.0);
-    auto& store = world.resource<ObservableStore>();
+    auto& store = view.observables();
     store.set("wall_position", std::move(position));
     store.set("wall_force", std::move(force));
   }

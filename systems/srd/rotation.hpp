@@ -21,6 +21,7 @@
 #include "components/velocity.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "systems/srd/srd_cells.hpp"
 
@@ -56,19 +57,17 @@ CellRotation<D> rotation_base(const RotationParameters& p) {
 }
 
 template <int D>
-class SrdRotation : public System {
+class SrdRotation : public SystemOf<Reads<Clock>, Writes<Velocity<D>, SrdCells<D>>> {
  public:
+  using View = typename SystemOf<Reads<Clock>, Writes<Velocity<D>, SrdCells<D>>>::View;
   SrdRotation(RotationParameters parameters, std::uint64_t seed)
       : p_(parameters), base_(rotation_base<D>(parameters)), seed_(seed) {}
 
   std::string name() const override { return "srd_rotation"; }
-  Access access() const override {
-    return Access{}.reads<Clock>().template writes<Velocity<D>, SrdCells<D>>();
-  }
 
-  void run(World& world) override {
-    auto& cells = world.resource<SrdCells<D>>();
-    const auto step = static_cast<std::uint64_t>(world.resource<Clock>().step);
+  void run_on(View view) override {
+    auto& cells = view.template write<SrdCells<D>>();
+    const auto step = static_cast<std::uint64_t>(view.template read<Clock>().step);
     const GranularParameters granular = granular_parameters(p_);
     const bool transfer = p_.record_transfer && D >= 2 && cells.record_moments;
     const std::size_t cell_count = cells.cell_count();
@@ -89,13 +88,13 @@ class SrdRotation : public System {
       clamped += clamped_here;
     });
     // Then every particle, independently.
-    double* v = world.component<Velocity<D>>().data()->data();
+    double* v = view.template write<Velocity<D>>().data()->data();
     const std::uint32_t* cell = cells.cell.data();
     const std::int8_t* image = cells.image.empty() ? nullptr : cells.image.data();
     const double image_speed = cells.shear.velocity;
     const CellCollision* collisions = collisions_.data();
     if (!cells.record_energy) {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 4096), [&](const auto& range) {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, view.size(), 4096), [&](const auto& range) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
           if (i + prefetch_distance < range.end()) prefetch(collisions + cell[i + prefetch_distance]);
           const CellCollision& collision = collisions[cell[i]];
@@ -103,7 +102,7 @@ class SrdRotation : public System {
         }
       });
     } else {
-      collide_and_account(world.size(), cells, v, image, image_speed);
+      collide_and_account(view.size(), cells, v, image, image_speed);
     }
     cells.clamped_cells = clamped.load();
     total_clamped_ += cells.clamped_cells;

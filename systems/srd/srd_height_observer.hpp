@@ -12,6 +12,7 @@
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "systems/srd/srd_cells.hpp"
 
@@ -21,23 +22,23 @@ inline const SystemDescription observe_srd_height_description{
     "observe_srd_height", "centre_of_mass_height along the walls' axis and peak_cell_density (collapse)"};
 
 template <int D>
-class SrdHeightObserver : public System {
+class SrdHeightObserver : public SystemOf<Reads<Position<D>, SrdCells<D>>, Writes<>> {
  public:
+  using View = typename SystemOf<Reads<Position<D>, SrdCells<D>>, Writes<>>::View;
   SrdHeightObserver(int axis, double mean_per_cell) : axis_(axis), mean_per_cell_(mean_per_cell) {}
   std::string name() const override { return "observe_srd_height"; }
   Access access() const override {
-    return Access{}
-        .reads<Position<D>, SrdCells<D>>()
+    return View::access()
         .writes_observable("centre_of_mass_height", unit::length)
         .writes_observable("peak_cell_density", unit::none);
   }
-  void run(World& world) override {
-    const auto& x = world.component<Position<D>>();
-    const auto& cells = world.resource<SrdCells<D>>();
+  void run_on(View view) override {
+    const auto& x = view.template read<Position<D>>();
+    const auto& cells = view.template read<SrdCells<D>>();
     const double height =
-        deterministic_sum(world.size(), [&](std::size_t i) { return x[i][axis_]; }) / static_cast<double>(world.size());
+        deterministic_sum(view.size(), [&](std::size_t i) { return x[i][axis_]; }) / static_cast<double>(view.size());
     const std::uint32_t peak = cells.count.empty() ? 0 : *std::max_element(cells.count.begin(), cells.count.end());
-    auto& store = world.resource<ObservableStore>();
+    auto& store = view.observables();
     store.set("centre_of_mass_height", height);
     store.set("peak_cell_density", peak / mean_per_cell_);
   }

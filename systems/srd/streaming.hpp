@@ -22,6 +22,7 @@
 #include "components/velocity.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "engine/run/run_control.hpp"
 #include "systems/srd/srd_cells.hpp"
@@ -43,8 +44,9 @@ inline std::string stranded_failure(double time, std::int64_t step, std::uint64_
 }
 
 template <int D>
-class SrdStreaming : public System {
+class SrdStreaming : public SystemOf<Reads<>, Writes<Position<D>, Velocity<D>, ImageCount<D>, Clock, SrdCells<D>, RunControl>> {
  public:
+  using View = typename SystemOf<Reads<>, Writes<Position<D>, Velocity<D>, ImageCount<D>, Clock, SrdCells<D>, RunControl>>::View;
   // shear_rate: du_x/dy imposed through the Lees-Edwards planes (0: none);
   // force: a constant body force per mass (gravity, or driving in a slab).
   // Walls are the SrdCells' own; Lees-Edwards planes do not combine with
@@ -61,27 +63,24 @@ class SrdStreaming : public System {
     cells.shear.velocity = rate * cells.length[1];
     cells.shear.offset = std::fmod(cells.shear.velocity * time, cells.length[0]);
   }
-  Access access() const override {
-    return Access{}.writes<Position<D>, Velocity<D>, ImageCount<D>, Clock, SrdCells<D>, RunControl>();
-  }
 
-  void run(World& world) override {
-    auto& clock = world.resource<Clock>();
-    auto& cells = world.resource<SrdCells<D>>();
+  void run_on(View view) override {
+    auto& clock = view.template write<Clock>();
+    auto& cells = view.template write<SrdCells<D>>();
     const double start = clock.time;
     ++clock.step;
     clock.time = static_cast<double>(clock.step) * dt_;
     set_shear(cells, shear_rate_, clock.time);
-    double* x = world.component<Position<D>>().data()->data();
-    double* v = world.component<Velocity<D>>().data()->data();
+    double* x = view.template write<Position<D>>().data()->data();
+    double* v = view.template write<Velocity<D>>().data()->data();
     // Counted only where the run writes particle frames (srd_frames.hpp).
     std::int32_t* images =
-        world.has_component<ImageCount<D>>() ? world.component<ImageCount<D>>().values.data()->data() : nullptr;
+        view.template has<ImageCount<D>>() ? view.template write<ImageCount<D>>().values.data()->data() : nullptr;
     const Shear shear = cells.shear;
     const double* length = cells.length.data();
     const double dt = dt_;
     if (cells.walls.empty() && !force_.any()) {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, world.size(), 4096), [&](const auto& range) {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, view.size(), 4096), [&](const auto& range) {
         if (images)
           for (std::size_t i = range.begin(); i != range.end(); ++i)
             stream_particle<D, true>(x + D * i, v + D * i, dt, length, shear, images + D * i);
@@ -99,7 +98,7 @@ class SrdStreaming : public System {
     // Per fixed chunk of particles, so that the sum of the walls' work does
     // not depend on the thread count.
     constexpr std::size_t chunk = 4096;
-    const std::size_t chunks = (world.size() + chunk - 1) / chunk;
+    const std::size_t chunks = (view.size() + chunk - 1) / chunk;
     chunk_work_.assign(chunks, 0.0);
     chunk_reflections_.assign(chunks, 0);
     chunk_stranded_.assign(chunks, 0);
@@ -108,7 +107,7 @@ class SrdStreaming : public System {
       for (std::size_t k = range.begin(); k != range.end(); ++k) {
         std::uint64_t here = 0, stranded = 0;
         double* work = chunk_work ? chunk_work + k : nullptr;
-        const std::size_t end = std::min(world.size(), (k + 1) * chunk);
+        const std::size_t end = std::min(view.size(), (k + 1) * chunk);
         for (std::size_t i = k * chunk; i != end; ++i) {
           double* xi = x + D * i;
           const double* g = force.acts_at(xi) ? force.acceleration : none;
@@ -130,7 +129,7 @@ class SrdStreaming : public System {
       cells.wall_reflections += chunk_reflections_[k];
       stranded += chunk_stranded_[k];
     }
-    if (stranded > 0) world.resource<RunControl>().fail(stranded_failure(clock.time, clock.step, stranded, dt_));
+    if (stranded > 0) view.template write<RunControl>().fail(stranded_failure(clock.time, clock.step, stranded, dt_));
     if (cells.record_energy) {
       double work = 0.0;
       for (double w : chunk_work_) work += w;
