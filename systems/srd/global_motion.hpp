@@ -19,11 +19,11 @@ struct GlobalMotion {
 
 // particle_mass: the mass of every particle where the World has no Mass column.
 template <int D>
-GlobalMotion<D> global_motion(const World& world, double particle_mass, bool with_temperature = true) {
-  const auto& velocity = world.component<Velocity<D>>();
-  const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
+GlobalMotion<D> global_motion(const Velocity<D>& velocity, const Mass* masses, double particle_mass,
+                              bool with_temperature = true) {
+  const double* mass = masses ? masses->data() : nullptr;
   const auto m = [&](std::size_t i) { return mass ? mass[i] : particle_mass; };
-  const std::size_t n = world.size();
+  const std::size_t n = velocity.size();
   GlobalMotion<D> out;
   out.total_mass = deterministic_sum(n, m);
   for (int a = 0; a < D; ++a)
@@ -33,6 +33,12 @@ GlobalMotion<D> global_motion(const World& world, double particle_mass, bool wit
         deterministic_sum(n, [&](std::size_t i) { return m(i) * (velocity[i] - out.mean).squaredNorm(); }) /
         (D * static_cast<double>(n));
   return out;
+}
+template <int D>
+GlobalMotion<D> global_motion(const World& world, double particle_mass, bool with_temperature = true) {
+  return global_motion<D>(world.component<Velocity<D>>(),
+                          world.has_component<Mass>() ? &world.component<Mass>() : nullptr, particle_mass,
+                          with_temperature);
 }
 
 }  // namespace granflow::srd

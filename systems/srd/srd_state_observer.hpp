@@ -20,6 +20,7 @@
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "systems/srd/global_motion.hpp"
 #include "systems/srd/srd_cells.hpp"
@@ -30,12 +31,12 @@ inline const SystemDescription observe_srd_state_description{
     "observe_srd_state", "temperature, granular temperature, convective energy, density fluctuations, Mach number, Sonine a2 and a3"};
 
 template <int D>
-class SrdStateObserver : public System {
+class SrdStateObserver : public SystemOf<Reads<Clock, Velocity<D>, Mass, SrdCells<D>>, Writes<>> {
  public:
+  using View = typename SystemOf<Reads<Clock, Velocity<D>, Mass, SrdCells<D>>, Writes<>>::View;
   std::string name() const override { return "observe_srd_state"; }
   Access access() const override {
-    return Access{}
-        .reads<Clock, Velocity<D>, Mass, SrdCells<D>>()
+    return View::access()
         .writes_observable("temperature", unit::energy)
         .writes_observable("granular_temperature", unit::energy)
         .writes_observable("convective_kinetic_energy", unit::energy)
@@ -46,14 +47,14 @@ class SrdStateObserver : public System {
         .writes_observable("sonine_a3", unit::none);
   }
 
-  void run(World& world) override {
-    const auto& cells = world.resource<SrdCells<D>>();
-    const auto& velocity = world.component<Velocity<D>>();
-    const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
+  void run_on(View view) override {
+    const auto& cells = view.template read<SrdCells<D>>();
+    const auto& velocity = view.template read<Velocity<D>>();
+    const double* mass = view.template has<Mass>() ? view.template read<Mass>().data() : nullptr;
     const double m0 = cells.particle_mass;
-    const std::size_t n = world.size();
+    const std::size_t n = view.size();
     const auto m = [&](std::size_t i) { return mass ? mass[i] : m0; };
-    auto& store = world.resource<ObservableStore>();
+    auto& store = view.observables();
 
     const std::size_t c_count = cells.cell_count();
     const double occupied = deterministic_sum(c_count, [&](std::size_t c) { return cells.particles_in(c) > 0 ? 1.0 : 0.0; });
@@ -68,7 +69,7 @@ class SrdStateObserver : public System {
         static_cast<double>(n);
     // Between walls, only the cells wholly inside them (this step's grid):
     // the others are cut, or beyond the walls.
-    const double time = world.resource<Clock>().time;
+    const double time = view.template read<Clock>().time;
     const auto counted = [&](std::size_t c) { return cells.walls.empty() || cells.inside_walls(c, time); };
     const double counted_cells = deterministic_sum(c_count, [&](std::size_t c) { return counted(c) ? 1.0 : 0.0; });
     const double mean_count =
@@ -79,7 +80,7 @@ class SrdStateObserver : public System {
                                     const double d = cells.particles_in(c) - mean_count;
                                     return d * d;
                                   }) / std::max(counted_cells, 1.0);
-    const GlobalMotion<D> global = global_motion<D>(world, m0);
+    const GlobalMotion<D> global = global_motion<D>(view.template read<Velocity<D>>(), view.template has<Mass>() ? &view.template read<Mass>() : nullptr, m0);
     const Vec<D>& mean = global.mean;
     const double c2 = deterministic_sum(n, [&](std::size_t i) { return (velocity[i] - mean).squaredNorm(); }) / n;
     const double c4 = deterministic_sum(n, [&](std::size_t i) {

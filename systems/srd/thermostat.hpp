@@ -15,6 +15,7 @@
 #include "engine/core/deterministic_sum.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "systems/srd/global_motion.hpp"
 #include "systems/srd/srd_cell_kernels.hpp"
@@ -26,23 +27,23 @@ inline const SystemDescription srd_thermostat_description{
     "srd_thermostat", "global rescaling of the thermal velocities (relative to the cell means) to a target temperature"};
 
 template <int D>
-class SrdThermostat : public System {
+class SrdThermostat : public SystemOf<Reads<Mass>, Writes<Velocity<D>, SrdCells<D>>> {
  public:
+  using View = typename SystemOf<Reads<Mass>, Writes<Velocity<D>, SrdCells<D>>>::View;
   // remove_drift: take the global mean velocity out first (a periodic box;
   // between walls the flow is the physics).
   explicit SrdThermostat(double temperature, bool remove_drift = true)
       : temperature_(temperature), remove_drift_(remove_drift) {}
 
   std::string name() const override { return "srd_thermostat"; }
-  Access access() const override { return Access{}.reads<Mass>().template writes<Velocity<D>, SrdCells<D>>(); }
 
-  void run(World& world) override {
-    auto& cells = world.resource<SrdCells<D>>();
-    Vec<D>* velocity = world.component<Velocity<D>>().data();
-    const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
+  void run_on(View view) override {
+    auto& cells = view.template write<SrdCells<D>>();
+    Vec<D>* velocity = view.template write<Velocity<D>>().data();
+    const double* mass = view.template has<Mass>() ? view.template read<Mass>().data() : nullptr;
     const double m0 = cells.particle_mass;
     const auto m = [&](std::size_t i) { return mass ? mass[i] : m0; };
-    const std::size_t n = world.size();
+    const std::size_t n = view.size();
     const std::uint32_t* cell = cells.cell.data();
     // A particle's velocity relative to its cell's mean, as the cell sees it.
     const auto thermal_velocity = [&](std::size_t i) {
@@ -51,7 +52,7 @@ class SrdThermostat : public System {
       return u;
     };
     // Global drift (mass-weighted mean velocity), summed in a fixed order.
-    const Vec<D> drift = remove_drift_ ? global_motion<D>(world, m0, false).mean : Vec<D>::Zero();
+    const Vec<D> drift = remove_drift_ ? global_motion<D>(view.template read<Velocity<D>>(), view.template has<Mass>() ? &view.template read<Mass>() : nullptr, m0, false).mean : Vec<D>::Zero();
     // Thermal energy about the cell means (which the rotation left unchanged).
     const double thermal = deterministic_sum(n, [&](std::size_t i) { return m(i) * thermal_velocity(i).squaredNorm(); });
     const double occupied =

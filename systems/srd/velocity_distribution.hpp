@@ -16,6 +16,7 @@
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "systems/srd/global_motion.hpp"
 #include "systems/srd/srd_cells.hpp"
@@ -28,19 +29,20 @@ inline const SystemDescription observe_velocity_distribution_description{
 inline constexpr double reduced_speed_max = 4.0;  // f(4) / f_max < 1e-5 for a Maxwellian
 
 template <int D>
-class VelocityDistributionObserver : public System {
+class VelocityDistributionObserver : public SystemOf<Reads<Velocity<D>, Mass, SrdCells<D>>, Writes<>> {
  public:
+  using View = typename SystemOf<Reads<Velocity<D>, Mass, SrdCells<D>>, Writes<>>::View;
   explicit VelocityDistributionObserver(std::size_t bins) : bins_(bins) {}
 
   std::string name() const override { return "observe_velocity_distribution"; }
   Access access() const override {
-    return Access{}.reads<Velocity<D>, Mass, SrdCells<D>>().writes_observable("velocity_distribution", unit::none);
+    return View::access().writes_observable("velocity_distribution", unit::none);
   }
 
-  void run(World& world) override {
-    const auto& velocity = world.component<Velocity<D>>();
-    const std::size_t n = world.size();
-    const GlobalMotion<D> global = global_motion<D>(world, world.resource<SrdCells<D>>().particle_mass);
+  void run_on(View view) override {
+    const auto& velocity = view.template read<Velocity<D>>();
+    const std::size_t n = view.size();
+    const GlobalMotion<D> global = global_motion<D>(view.template read<Velocity<D>>(), view.template has<Mass>() ? &view.template read<Mass>() : nullptr, view.template read<SrdCells<D>>().particle_mass);
     const Vec<D>& mean = global.mean;
     const double granular = global.granular_temperature;
     std::vector<double> density(bins_, 0.0);
@@ -53,7 +55,7 @@ class VelocityDistributionObserver : public System {
       if (bin < bins_) density[bin] += 1.0;
     }
     for (double& value : density) value /= static_cast<double>(n) * width;
-    world.resource<ObservableStore>().set("velocity_distribution", std::move(density));
+    view.observables().set("velocity_distribution", std::move(density));
   }
 
   // The bins' centres, for the file's attribute.
