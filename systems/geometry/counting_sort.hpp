@@ -19,7 +19,11 @@ namespace granflow {
 // gets each cell's number of items. `scratch` holds the chunks' counts.
 inline void count_scan_fill(const std::uint32_t* cell, std::size_t n, std::size_t cell_count, std::uint32_t* start,
                             std::uint32_t* order, std::vector<std::uint32_t>& scratch, std::uint32_t* count = nullptr) {
-  const std::size_t chunks = std::clamp<std::size_t>(n / (1u << 16), 1, 16);
+  // Chunks of at least 2^16 items, and no more than keep the scratch within
+  // twice the items (a sparse grid, as DEM's in a tall empty box, has many
+  // more cells than spheres). The order does not depend on the chunking.
+  const std::size_t chunks =
+      std::clamp<std::size_t>(std::min(n / (1u << 16), 2 * n / std::max<std::size_t>(cell_count, 1)), 1, 16);
   const std::size_t per_chunk = (n + chunks - 1) / chunks;
   scratch.assign(chunks * cell_count, 0u);
   std::uint32_t* counts = scratch.data();
