@@ -11,7 +11,9 @@
 //     void run_on(View view) override { view.write<Velocity<3>>() ... }
 //   };
 
+#include <cstdint>
 #include <type_traits>
+#include <vector>
 
 #include "engine/core/access.hpp"
 #include "engine/core/system.hpp"
@@ -21,6 +23,10 @@ namespace granflow {
 
 template <class... T>
 struct Reads {};
+// Listed in Writes<...>: the system may reorder the particles, which moves
+// every column (World::permute), and so conflicts with every system that
+// touches one.
+struct EveryColumn {};
 template <class... T>
 struct Writes {};
 
@@ -30,30 +36,56 @@ class View;
 template <class... R, class... W>
 class View<Reads<R...>, Writes<W...>> {
  public:
-  explicit View(World& world) : world_(world) {}
+  // Implicit, so that setup code and tests may hand a World to a helper that
+  // takes a view: the helper's signature still says what it touches.
+  View(World& world) : world_(world) {}  // NOLINT(google-explicit-constructor)
+  // A view that writes nothing may be taken of a const World (setup code and
+  // writers that read the state outside the schedule).
+  View(const World& world)  // NOLINT(google-explicit-constructor)
+    requires(sizeof...(W) == 0)
+      : world_(const_cast<World&>(world)) {}
 
   // The declaration this view stands for.
-  static Access access() { return Access{}.reads<R...>().template writes<W...>(); }
+  static Access access() {
+    Access access;
+    (add_read<R>(access), ...);
+    (add_write<W>(access), ...);
+    return access;
+  }
 
   template <class T>
   const T& read() const {
-    static_assert(listed<T, R..., W...>, "View::read of a type the system does not declare (add it to Reads<...>)");
+    static_assert(readable<T>, "View::read of a type the system does not declare (add it to Reads<...>)");
     return get<T>();
   }
   template <class T>
   T& write() {
-    static_assert(listed<T, W...>, "View::write of a type the system does not declare as written (add it to Writes<...>)");
+    static_assert(writable<T>, "View::write of a type the system does not declare as written (add it to Writes<...>)");
     return get<T>();
+  }
+  // Reorders the particles: afterwards particle k is the one that was order[k].
+  void permute(const std::vector<std::uint32_t>& order) {
+    static_assert(listed<EveryColumn, W...>, "View::permute needs EveryColumn in Writes<...>");
+    world_.permute(order);
   }
   // Whether the World holds an optional column or resource the view lists.
   template <class T>
   bool has() const {
-    static_assert(listed<T, R..., W...>, "View::has of a type the system does not declare");
+    static_assert(readable<T>, "View::has of a type the system does not declare");
     if constexpr (std::is_base_of_v<ColumnBase, T>)
       return world_.template has_component<T>();
     else
       return world_.template has_resource<T>();
   }
+  // A view of fewer columns, for a helper that declares its own (it can
+  // take no more than this view lists, and write only what this one writes).
+  template <class... R2, class... W2>
+  operator View<Reads<R2...>, Writes<W2...>>() const {
+    static_assert((readable<R2> && ...), "narrowing a View to read a type it does not list");
+    static_assert((writable<W2> && ...), "narrowing a View to write a type it does not write");
+    return View<Reads<R2...>, Writes<W2...>>(world_);
+  }
+
   std::size_t size() const { return world_.size(); }
   // The observables this round: which names a system writes is declared by
   // name (Access::writes_observable), not by type, and the store checks
@@ -63,6 +95,24 @@ class View<Reads<R...>, Writes<W...>> {
  private:
   template <class T, class... L>
   static constexpr bool listed = (std::is_same_v<T, L> || ...);
+  template <class T>
+  static constexpr bool any_column = std::is_base_of_v<ColumnBase, T> && listed<EveryColumn, W...>;
+  template <class T>
+  static constexpr bool readable = listed<T, R..., W...> || any_column<T>;
+  template <class T>
+  static constexpr bool writable = listed<T, W...> || any_column<T>;
+
+  template <class T>
+  static void add_read(Access& access) {
+    access.reads<T>();
+  }
+  template <class T>
+  static void add_write(Access& access) {
+    if constexpr (std::is_same_v<T, EveryColumn>)
+      access.writes_every_component();
+    else
+      access.writes<T>();
+  }
 
   template <class T>
   T& get() const {

@@ -20,6 +20,7 @@
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 
 namespace granflow {
@@ -27,20 +28,24 @@ namespace granflow {
 inline const SystemDescription observe_crater_description{"observe_crater", "crater_size (bed disks displaced beyond a threshold) and projectile_depth"};
 
 template <int D>
-class CraterObserver : public System, public Stateful {
+using CraterObserverBase = SystemOf<Reads<Position<D>, Species, ParticleId, Radius>, Writes<>>;
+
+template <int D>
+class CraterObserver : public CraterObserverBase<D>, public Stateful {
  public:
+  using View = typename CraterObserverBase<D>::View;
   // Takes every particle's position before the impact from the world as it is now.
   CraterObserver(const World& world, double threshold, double surface)
       : initial_(world.size()), threshold_(threshold), surface_(surface) {
-    const auto& id = world.component<ParticleId>();
-    const auto& x = world.component<Position<D>>();
+    const View view(world);
+    const auto& id = view.template read<ParticleId>();
+    const auto& x = view.template read<Position<D>>();
     for (std::size_t i = 0; i < world.size(); ++i) initial_[id[i]] = x[i];
   }
 
   std::string name() const override { return "observe_crater"; }
   Access access() const override {
-    return Access{}
-        .reads<Position<D>, Species, ParticleId, Radius>()
+    return View::access()
         .writes_observable("crater_size", unit::none)
         .writes_observable("projectile_depth", unit::length);
   }
@@ -48,21 +53,21 @@ class CraterObserver : public System, public Stateful {
   void restore_state(const StateMap& state) override {
     unflatten_vectors(state.at("initial_position"), initial_, "crater initial positions");
   }
-  void run(World& world) override {
-    const auto& x = world.component<Position<D>>();
-    const auto& species = world.component<Species>();
-    const auto& id = world.component<ParticleId>();
-    const auto& radius = world.component<Radius>();
+  void run_on(View view) override {
+    const auto& x = view.template read<Position<D>>();
+    const auto& species = view.template read<Species>();
+    const auto& id = view.template read<ParticleId>();
+    const auto& radius = view.template read<Radius>();
     std::size_t displaced = 0;
     double depth = -std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < world.size(); ++i) {
+    for (std::size_t i = 0; i < view.size(); ++i) {
       if (species[i] == 0) {
         if ((x[i] - initial_[id[i]]).squaredNorm() > threshold_ * threshold_) ++displaced;
       } else {
         depth = std::max(depth, surface_ - (x[i][D - 1] - radius[i]));
       }
     }
-    auto& store = world.resource<ObservableStore>();
+    auto& store = view.observables();
     store.set("crater_size", static_cast<double>(displaced));
     store.set("projectile_depth", depth);
   }

@@ -19,6 +19,7 @@
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 
 namespace granflow {
@@ -28,14 +29,17 @@ inline const SystemDescription observe_msd_description{"observe_msd", "ensemble 
 // Unwrapped positions and particle ids of a world, with the component and
 // resource lookups done once rather than per particle.
 template <int D>
+using UnwrappedView = View<Reads<Position<D>, ImageCount<D>, ParticleId, Box<D>>, Writes<>>;
+
+template <int D>
 class UnwrappedPositions {
  public:
-  explicit UnwrappedPositions(const World& world)
-      : position_(world.component<Position<D>>().data()),
-        image_(world.has_component<ImageCount<D>>() ? world.component<ImageCount<D>>().data() : nullptr),
-        id_(world.has_component<ParticleId>() ? world.component<ParticleId>().data() : nullptr) {
+  explicit UnwrappedPositions(const UnwrappedView<D>& view)
+      : position_(view.template read<Position<D>>().data()),
+        image_(view.template has<ImageCount<D>>() ? view.template read<ImageCount<D>>().data() : nullptr),
+        id_(view.template has<ParticleId>() ? view.template read<ParticleId>().data() : nullptr) {
     if (image_)
-      for (int a = 0; a < D; ++a) length_[a] = world.resource<Box<D>>().length[a];
+      for (int a = 0; a < D; ++a) length_[a] = view.template read<Box<D>>().length[a];
   }
 
   Vec<D> operator()(std::size_t i) const {
@@ -55,28 +59,27 @@ class UnwrappedPositions {
 };
 
 template <int D>
-class MsdObserver : public System, public Stateful {
+class MsdObserver : public SystemOf<Reads<Position<D>, ImageCount<D>, ParticleId, Box<D>>, Writes<>>, public Stateful {
  public:
+  using View = UnwrappedView<D>;
   // Takes the reference positions x(0) from the world as it is now.
   explicit MsdObserver(const World& world) : origin_(world.size()) {
-    const UnwrappedPositions<D> unwrapped(world);
+    const UnwrappedPositions<D> unwrapped{View(world)};
     for (std::size_t i = 0; i < world.size(); ++i) origin_[unwrapped.id(i)] = unwrapped(i);
   }
 
   std::string name() const override { return "observe_msd"; }
-  Access access() const override {
-    return Access{}.reads<Position<D>, ImageCount<D>, ParticleId>().writes_observable("msd", unit::area);
-  }
+  Access access() const override { return View::access().writes_observable("msd", unit::area); }
   StateMap save_state() const override { return {{"origin", flatten_vectors(origin_)}}; }
   void restore_state(const StateMap& state) override { unflatten_vectors(state.at("origin"), origin_, "MSD origins"); }
-  void run(World& world) override { world.resource<ObservableStore>().set("msd", measure(world)); }
+  void run_on(View view) override { view.observables().set("msd", measure(view)); }
 
-  double measure(const World& world) const {
-    const UnwrappedPositions<D> unwrapped(world);
-    const double total = deterministic_sum(world.size(), [&](std::size_t i) {
+  double measure(const View& view) const {
+    const UnwrappedPositions<D> unwrapped(view);
+    const double total = deterministic_sum(view.size(), [&](std::size_t i) {
       return (unwrapped(i) - origin_[unwrapped.id(i)]).squaredNorm();
     });
-    return world.size() ? total / static_cast<double>(world.size()) : 0.0;
+    return view.size() ? total / static_cast<double>(view.size()) : 0.0;
   }
 
  private:

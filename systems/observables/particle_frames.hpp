@@ -11,12 +11,14 @@
 #include <vector>
 
 #include "components/clock.hpp"
+#include "components/image_count.hpp"
 #include "components/particle_id.hpp"
 #include "components/position.hpp"
 #include "components/velocity.hpp"
 #include "engine/core/config.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
 #include "engine/io/particle_output.hpp"
 #include "engine/run/output_file.hpp"
 #include "engine/run/run.hpp"
@@ -26,15 +28,18 @@ namespace granflow {
 inline const SystemDescription write_particle_frames_description{"write_particle_frames", "particle positions and velocities to /particles/all, by the output.positions policy"};
 
 template <int D>
-class ParticleFrameWriter : public System {
+using ParticleFrameWriterBase = SystemOf<Reads<Position<D>, Velocity<D>, ImageCount<D>, ParticleId, Clock>, Writes<OutputFile>>;
+
+template <int D>
+class ParticleFrameWriter : public ParticleFrameWriterBase<D> {
  public:
+  using View = typename ParticleFrameWriterBase<D>::View;
   std::string name() const override { return "write_particle_frames"; }
-  Access access() const override { return Access{}.reads<Position<D>, Velocity<D>, ParticleId, Clock>().template writes<OutputFile>(); }
-  void run(World& world) override {
-    H5mdFile* file = world.resource<OutputFile>().file;
+  void run_on(View view) override {
+    H5mdFile* file = view.template write<OutputFile>().file;
     if (!file) return;
-    const auto& clock = world.resource<Clock>();
-    append_particle_frame<D>(*file, world, clock.step, clock.time);
+    const auto& clock = view.template read<Clock>();
+    append_particle_frame<D>(*file, view, clock.step, clock.time);
   }
 };
 

@@ -10,7 +10,6 @@
 
 #include "components/species.hpp"
 #include "components/velocity.hpp"
-#include "engine/core/world.hpp"
 #include "systems/observables/least_squares.hpp"
 
 namespace granflow {
@@ -33,10 +32,8 @@ class SpeedSamples {
 
   // Adds the current speed of every particle, sorted by its Species (all in 0 without one).
   template <int D>
-  void add(const World& world) {
-    const auto& velocity = world.component<Velocity<D>>();
-    const Species* species = world.has_component<Species>() ? &world.component<Species>() : nullptr;
-    for (std::size_t i = 0; i < world.size(); ++i) {
+  void add(const Velocity<D>& velocity, const Species* species) {
+    for (std::size_t i = 0; i < velocity.size(); ++i) {
       const std::size_t s = species ? std::min<std::size_t>((*species)[i], speeds_.size() - 1) : 0;
       speeds_[s].push_back(velocity[i].norm());
     }

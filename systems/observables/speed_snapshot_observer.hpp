@@ -10,7 +10,7 @@
 #include "engine/core/state_map.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
-#include "engine/core/world.hpp"
+#include "engine/core/view.hpp"
 #include "systems/observables/speed_samples.hpp"
 
 namespace granflow {
@@ -18,14 +18,17 @@ namespace granflow {
 inline const SystemDescription observe_speed_snapshot_description{
     "observe_speed_snapshot", "the speeds of every particle, per species, for the speed histograms"};
 
+// Writes itself: whatever reads the samples at the end is ordered after it.
 template <int D>
-class SpeedSnapshotObserver : public System, public Stateful {
+class SpeedSnapshotObserver : public SystemOf<Reads<Velocity<D>, Species>, Writes<SpeedSnapshotObserver<D>>>,
+                              public Stateful {
  public:
+  using View = typename SystemOf<Reads<Velocity<D>, Species>, Writes<SpeedSnapshotObserver<D>>>::View;
   explicit SpeedSnapshotObserver(std::size_t species) : samples_(species) {}
   std::string name() const override { return "observe_speed_snapshot"; }
-  Access access() const override { return Access{}.reads<Velocity<D>, Species>().template writes<SpeedSnapshotObserver<D>>(); }
-  void run(World& world) override {
-    samples_.add<D>(world);
+  void run_on(View view) override {
+    samples_.add(view.template read<Velocity<D>>(),
+                 view.template has<Species>() ? &view.template read<Species>() : nullptr);
     ++taken_;
   }
   static constexpr const char* key = "speed_snapshots";

@@ -19,6 +19,7 @@
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/trigger.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/io/h5md_file.hpp"
 #include "engine/run/run.hpp"
 #include "engine/run/run_control.hpp"
@@ -55,32 +56,35 @@ inline void declare_msd_keys(ConfigSchema& schema, const MsdDefaults& d) {
 // Samples when its trigger fires; publishes the result in the Runner's final
 // round (RunControl::ending). Add it with add_time_averaged_msd().
 template <int D>
-class TimeAveragedMsdObserver : public System, public Stateful {
+using TimeAveragedMsdBase = SystemOf<Reads<Position<D>, ImageCount<D>, ParticleId, Box<D>, RunControl>, Writes<>>;
+
+template <int D>
+class TimeAveragedMsdObserver : public TimeAveragedMsdBase<D>, public Stateful {
  public:
+  using View = typename TimeAveragedMsdBase<D>::View;
   // `samples`: how many samples the run will take at most (sets the longest lag).
   TimeAveragedMsdObserver(std::size_t tracked, std::uint64_t samples, int points)
       : tracked_(tracked), correlator_(tracked, D, samples, points), buffer_(tracked * D) {}
 
   std::string name() const override { return "observe_time_averaged_msd"; }
   Access access() const override {
-    return Access{}
-        .reads<Position<D>, ImageCount<D>, ParticleId, RunControl>()
+    return View::access()
         .writes_observable("time_averaged_msd_lag", unit::time)
         .writes_observable("time_averaged_msd", unit::area)
         .writes_observable("ergodicity_breaking", unit::none);
   }
-  void run(World& world) override {
-    if (world.resource<RunControl>().ending) {
+  void run_on(View view) override {
+    if (view.template read<RunControl>().ending) {
       const auto result = correlator_.result();
-      auto& store = world.resource<ObservableStore>();
+      auto& store = view.observables();
       store.set("time_averaged_msd_lag", result.lag);
       store.set("time_averaged_msd", result.msd);
       store.set("ergodicity_breaking", result.ergodicity_breaking);
       return;
     }
     // Particles are tracked by id; storage order changes when an engine re-sorts.
-    const UnwrappedPositions<D> unwrapped(world);
-    for (std::size_t i = 0; i < world.size(); ++i)
+    const UnwrappedPositions<D> unwrapped(view);
+    for (std::size_t i = 0; i < view.size(); ++i)
       if (const std::uint32_t id = unwrapped.id(i); id < tracked_) {
         const Vec<D> u = unwrapped(i);
         for (int a = 0; a < D; ++a) buffer_[id * D + a] = u[a];

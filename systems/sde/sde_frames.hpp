@@ -27,6 +27,7 @@
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/trigger.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "engine/io/h5md_file.hpp"
 #include "engine/run/observable_recorder.hpp"
@@ -41,19 +42,19 @@ inline const std::string frame_position_series = "frame_position";
 inline const std::string frame_velocity_series = "frame_velocity";
 
 template <int D>
-class SdeFrameSampler : public System {
+class SdeFrameSampler : public SystemOf<Reads<Position<D>, Velocity<D>>, Writes<>> {
  public:
+  using View = typename SystemOf<Reads<Position<D>, Velocity<D>>, Writes<>>::View;
   std::string name() const override { return "sample_sde_frames"; }
   Access access() const override {
-    return Access{}
-        .reads<Position<D>, Velocity<D>>()
+    return View::access()
         .writes_observable(frame_position_series, unit::length)
         .writes_observable(frame_velocity_series, unit::velocity);
   }
-  void run(World& world) override {
-    auto& store = world.resource<ObservableStore>();
-    store.set(frame_position_series, flatten(world.component<Position<D>>()));
-    store.set(frame_velocity_series, flatten(world.component<Velocity<D>>()));
+  void run_on(View view) override {
+    auto& store = view.observables();
+    store.set(frame_position_series, flatten(view.template read<Position<D>>()));
+    store.set(frame_velocity_series, flatten(view.template read<Velocity<D>>()));
   }
 
  private:

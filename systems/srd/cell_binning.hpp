@@ -21,6 +21,7 @@
 #include "components/position.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "systems/geometry/counting_sort.hpp"
 #include "systems/srd/srd_cells.hpp"
@@ -38,32 +39,29 @@ inline std::uint64_t reorder_interval_for(double free_path) {
   return static_cast<std::uint64_t>(std::clamp(std::llround(2.0 / free_path), 5ll, 100ll));
 }
 
+// Declared as reordering the particles whether or not this run's interval
+// is 0 (never): the wider declaration only orders systems, it changes no result.
 template <int D>
-class SrdCellBinning : public System {
+class SrdCellBinning : public SystemOf<Reads<Clock>, Writes<SrdCells<D>, EveryColumn>> {
  public:
+  using View = typename SystemOf<Reads<Clock>, Writes<SrdCells<D>, EveryColumn>>::View;
+  using SortView = granflow::View<Reads<>, Writes<EveryColumn>>;
   // reorder_interval: steps between reorderings of the particle columns (0: never).
   explicit SrdCellBinning(std::uint64_t reorder_interval) : reorder_interval_(reorder_interval) {}
 
   std::string name() const override { return "srd_cell_binning"; }
-  Access access() const override {
-    Access access;
-    access.reads<Clock>().template writes<SrdCells<D>>();
-    if (reorder_interval_ > 0) access.writes_every_component();
-    else access.template reads<Position<D>>();
-    return access;
-  }
 
-  void run(World& world) override {
-    auto& cells = world.resource<SrdCells<D>>();
-    const auto step = static_cast<std::uint64_t>(world.resource<Clock>().step);
-    if (reorder_interval_ > 0 && step % reorder_interval_ == 0) sort(world, cells);
-    else assign(world, cells);
+  void run_on(View view) override {
+    auto& cells = view.template write<SrdCells<D>>();
+    const auto step = static_cast<std::uint64_t>(view.template read<Clock>().step);
+    if (reorder_interval_ > 0 && step % reorder_interval_ == 0) sort(view, cells);
+    else assign(view.template read<Position<D>>(), cells);
   }
 
   // The cell of every particle and the cells of every block.
-  static void assign(const World& world, SrdCells<D>& cells) {
-    const double* x = world.component<Position<D>>().data()->data();
-    const std::size_t n = world.size();
+  static void assign(const Position<D>& position, SrdCells<D>& cells) {
+    const double* x = position.data()->data();
+    const std::size_t n = position.size();
     cells.cell.resize(n);
     cells.image.resize(D >= 2 && cells.shear.velocity != 0.0 ? n : 0);
     std::uint32_t* const cell_column = cells.cell.data();
@@ -114,9 +112,9 @@ class SrdCellBinning : public System {
     });
   }
 
-  static void bin(const World& world, SrdCells<D>& cells) {
-    assign(world, cells);
-    const std::size_t n = world.size();
+  static void bin(const Position<D>& position, SrdCells<D>& cells) {
+    assign(position, cells);
+    const std::size_t n = position.size();
     cells.order.resize(n);
     count_scan_fill(cells.cell.data(), n, cells.cell_count(), cells.start.data(), cells.order.data(), cells.chunk_counts,
                     cells.count.data());
@@ -124,9 +122,9 @@ class SrdCellBinning : public System {
 
   // bin, then the particle columns in cell order: afterwards particle k is
   // the one that was order[k], and `order` is the identity.
-  static void sort(World& world, SrdCells<D>& cells) {
-    bin(world, cells);
-    world.permute(cells.order);
+  static void sort(SortView view, SrdCells<D>& cells) {
+    bin(view.template read<Position<D>>(), cells);
+    view.permute(cells.order);
     // The cells follow the particles, and the blocks the cells.
     const std::uint32_t* order = cells.order.data();
     std::vector<std::uint32_t> cell(cells.cell.size());

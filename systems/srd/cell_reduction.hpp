@@ -26,6 +26,7 @@
 #include "engine/core/stream_ids.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "systems/srd/srd_cells.hpp"
 
@@ -35,27 +36,26 @@ inline const SystemDescription srd_cell_reduction_description{
     "srd_cell_reduction", "count, mass, mean velocity and temperature of every SRD cell (parallel over cell ranges)"};
 
 template <int D>
-class SrdCellReduction : public System {
+class SrdCellReduction : public SystemOf<Reads<Clock, Position<D>, Velocity<D>, Mass>, Writes<SrdCells<D>>> {
  public:
+  using View = typename SystemOf<Reads<Clock, Position<D>, Velocity<D>, Mass>, Writes<SrdCells<D>>>::View;
+  using ParticleView = granflow::View<Reads<Clock, Position<D>, Velocity<D>, Mass>, Writes<>>;
   std::string name() const override { return "srd_cell_reduction"; }
-  Access access() const override {
-    return Access{}.reads<Clock, Position<D>, Velocity<D>, Mass>().template writes<SrdCells<D>>();
-  }
 
-  void run(World& world) override { reduce(world, world.resource<SrdCells<D>>()); }
+  void run_on(View view) override { reduce(view, view.template write<SrdCells<D>>()); }
 
   // Needs SrdCellBinning::assign's cells and blocks of the current positions.
-  static void reduce(const World& world, SrdCells<D>& cells) {
-    const double time = world.resource<Clock>().time;
-    const auto step = static_cast<std::uint64_t>(world.resource<Clock>().step);
+  static void reduce(const ParticleView& view, SrdCells<D>& cells) {
+    const double time = view.template read<Clock>().time;
+    const auto step = static_cast<std::uint64_t>(view.template read<Clock>().step);
     CutLayer cuts[6];
     const int cut_count = find_cut_layers(cells.walls.data(), static_cast<int>(cells.walls.size()), cells.cells.data(),
                                           cells.shift.data(), cells.origin.data(), time, cuts);
-    const Vec<D>* velocity = world.component<Velocity<D>>().data();  // D doubles each, packed
-    const double* x = world.component<Position<D>>().data()->data();
-    const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
+    const Vec<D>* velocity = view.template read<Velocity<D>>().data();  // D doubles each, packed
+    const double* x = view.template read<Position<D>>().data()->data();
+    const double* mass = view.template has<Mass>() ? view.template read<Mass>().data() : nullptr;
     const double m0 = cells.particle_mass;
-    const std::size_t n = world.size(), cell_count = cells.cell_count();
+    const std::size_t n = view.size(), cell_count = cells.cell_count();
     const bool moments = cells.record_moments && D >= 2;
     if (moments) {
       cells.moment.resize(cell_count);

@@ -298,7 +298,7 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = 
   SrdStreaming<D>::set_shear(state, rate, run.world().template resource<Clock>().time);
   state.record_moments = rate > 0.0;
   state.record_energy = record_energy;
-  SrdCellBinning<D>::assign(run.world(), state);
+  SrdCellBinning<D>::assign(run.world().template component<Position<D>>(), state);
   SrdCellReduction<D>::reduce(run.world(), state);
   std::vector<double> edges(cells.begin(), cells.end());
   std::vector<std::string> boundary;

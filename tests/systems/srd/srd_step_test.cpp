@@ -43,7 +43,7 @@ World random_fluid(std::array<std::int32_t, D> cells, std::size_t n, std::uint64
 template <int D>
 void collide(World& world, const RotationParameters& p) {
   auto& cells = world.resource<SrdCells<D>>();
-  SrdCellBinning<D>::bin(world, cells);
+  SrdCellBinning<D>::bin(world.component<Position<D>>(), cells);
   SrdCellReduction<D>::reduce(world, cells);
   SrdRotation<D>(p, 7).run(world);
 }
@@ -51,7 +51,7 @@ void collide(World& world, const RotationParameters& p) {
 TEST(SrdCell, CollisionConservesMomentumAndEnergyInEveryCell) {
   World world = random_fluid<3>({4, 4, 4}, 640, 1);
   auto& cells = world.resource<SrdCells<3>>();
-  SrdCellBinning<3>::bin(world, cells);
+  SrdCellBinning<3>::bin(world.component<Position<3>>(), cells);
   const auto& v = world.component<Velocity<3>>();
   std::vector<Vec<3>> momentum(cells.cell_count(), Vec<3>::Zero());
   std::vector<double> energy(cells.cell_count(), 0.0);
@@ -83,7 +83,7 @@ TEST(SrdCell, GranularRuleScalesTheRotatedThermalPartByEpsEffSquared) {
   // All particles in cell 0: the rotation axis and eps_eff are known.
   World world = random_fluid<3>({2, 2, 2}, 40, 2, 0.5);
   auto& cells = world.resource<SrdCells<3>>();
-  SrdCellBinning<3>::bin(world, cells);
+  SrdCellBinning<3>::bin(world.component<Position<3>>(), cells);
   SrdCellReduction<3>::reduce(world, cells);
   ASSERT_EQ(cells.particles_in(0), 40u);
   RotationParameters p;
@@ -120,7 +120,7 @@ TEST(SrdCell, BinningEqualsABruteForceAssignmentWithShiftAndShear) {
   auto& cells = world.resource<SrdCells<3>>();
   cells.shift = {0.31, -0.47, 0.12};
   cells.shear = {0.8, 2.35};
-  SrdCellBinning<3>::bin(world, cells);
+  SrdCellBinning<3>::bin(world.component<Position<3>>(), cells);
   const auto& x = world.component<Position<3>>();
   std::map<std::uint32_t, std::vector<std::uint32_t>> members;
   for (std::uint32_t i = 0; i < world.size(); ++i) {
@@ -153,7 +153,7 @@ TEST(SrdCell, ReductionEqualsAPlainLoop) {
   auto& cells = world.resource<SrdCells<2>>();
   cells.shift = {-0.2, 0.4};
   cells.shear = {0.5, 1.7};
-  SrdCellBinning<2>::bin(world, cells);
+  SrdCellBinning<2>::bin(world.component<Position<2>>(), cells);
   SrdCellReduction<2>::reduce(world, cells);
   const auto& x = world.component<Position<2>>();
   const auto& v = world.component<Velocity<2>>();
@@ -189,7 +189,7 @@ TEST(SrdCell, NonPositiveEffectiveRestitutionIsClampedAndCounted) {
   p.diameter = 2.0;  // (1 - 0) 4 x 50 x sqrt(theta) x 1: far below 0
   SrdRotation<2> rotation(p, 7);
   auto& cells = world.resource<SrdCells<2>>();
-  SrdCellBinning<2>::bin(world, cells);
+  SrdCellBinning<2>::bin(world.component<Position<2>>(), cells);
   SrdCellReduction<2>::reduce(world, cells);
   rotation.run(world);
   EXPECT_EQ(cells.clamped_cells, 16u);
