@@ -29,6 +29,7 @@
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "systems/observables/least_squares.hpp"
 #include "systems/srd/srd_cells.hpp"
@@ -147,24 +148,24 @@ class ShearStress : public Stateful {
 };
 
 template <int D>
-class ShearStressSampler : public System {
+using ShearStressSamplerBase =
+    SystemOf<Reads<Position<D>, Velocity<D>, Mass, SrdCells<D>, Clock>, Writes<ShearStress, SrdStepSums<D>>>;
+
+template <int D>
+class ShearStressSampler : public ShearStressSamplerBase<D> {
  public:
+  using View = typename ShearStressSamplerBase<D>::View;
   explicit ShearStressSampler(std::shared_ptr<ShearStress> sums) : sums_(std::move(sums)) {}
 
   std::string name() const override { return "sample_srd_stress"; }
-  Access access() const override {
-    return Access{}
-        .reads<Position<D>, Velocity<D>, Mass, SrdCells<D>, Clock>()
-        .template writes<ShearStress, SrdStepSums<D>>();
-  }
   bool reads_device_state(const World& world) const override { return !device_.ready(world); }
 
-  void run(World& world) override {
-    const auto& cells = world.resource<SrdCells<D>>();
+  void run_on(View view) override {
+    const auto& cells = view.template read<SrdCells<D>>();
     const std::size_t slabs = static_cast<std::size_t>(cells.cells[1]);
-    if (const auto* device = device_.ready(world)) {
+    if (const auto* device = device_.ready(view)) {
       const auto& rows = device_.layers(*device);
-      const double m0 = cells.particle_mass, n = static_cast<double>(world.size());
+      const double m0 = cells.particle_mass, n = static_cast<double>(view.size());
       std::vector<double> slab_vx(slabs), slab_count(slabs);
       for (std::size_t k = 0; k < slabs; ++k) {
         slab_count[k] = rows[k * (3 + D)];
@@ -175,12 +176,12 @@ class ShearStressSampler : public System {
       return;
     }
     // Particles of one mass (no Mass column): from the next step on, the device step sums.
-    if (!world.has_component<Mass>()) device_.ask(world, {1, 0, static_cast<int>(slabs)}, true);
-    const auto& x = world.component<Position<D>>();
-    const auto& v = world.component<Velocity<D>>();
-    const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
+    if (!view.template has<Mass>()) device_.ask(view, {1, 0, static_cast<int>(slabs)}, true);
+    const auto& x = view.template read<Position<D>>();
+    const auto& v = view.template read<Velocity<D>>();
+    const double* mass = view.template has<Mass>() ? view.template read<Mass>().data() : nullptr;
     const double m0 = cells.particle_mass;
-    const std::size_t n = world.size();
+    const std::size_t n = view.size();
     const auto m = [&](std::size_t i) { return mass ? mass[i] : m0; };
     const double half = 0.5 * cells.length[1];
     const double vxvy = deterministic_sum(n, [&](std::size_t i) { return m(i) * v[i][0] * v[i][1]; }) / n;
@@ -203,25 +204,24 @@ class ShearStressSampler : public System {
 };
 
 template <int D>
-class ShearViscosityObserver : public System {
+class ShearViscosityObserver : public SystemOf<Reads<Velocity<D>>, Writes<ShearStress>> {
  public:
+  using View = typename SystemOf<Reads<Velocity<D>>, Writes<ShearStress>>::View;
   explicit ShearViscosityObserver(std::shared_ptr<ShearStress> sums) : sums_(std::move(sums)) {}
 
   std::string name() const override { return "observe_srd_viscosity"; }
   Access access() const override {
-    return Access{}
-        .reads<Velocity<D>>()
-        .template writes<ShearStress>()
+    return View::access()
         .writes_observable("shear_rate_measured", unit::rate)
         .writes_observable("viscosity_kinetic", unit::diffusivity)
         .writes_observable("viscosity_collisional", unit::diffusivity);
   }
 
-  void run(World& world) override {
+  void run_on(View view) override {
     if (sums_->samples() == 0) return;
-    auto& store = world.resource<ObservableStore>();
+    auto& store = view.observables();
     const double rate = sums_->measured_shear_rate();
-    const auto nu = sums_->viscosities(rate, static_cast<double>(world.size()));
+    const auto nu = sums_->viscosities(rate, static_cast<double>(view.size()));
     store.set("shear_rate_measured", rate);
     store.set("viscosity_kinetic", nu.kinetic);
     store.set("viscosity_collisional", nu.collisional);

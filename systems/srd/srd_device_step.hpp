@@ -25,6 +25,7 @@
 #include "components/velocity.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "engine/run/run_control.hpp"
 #include "systems/srd/grid_shift.hpp"
@@ -53,7 +54,13 @@ struct DeviceStepParameters {
 };
 
 template <int D>
-class SrdDeviceStep : public System {
+using SrdDeviceStepBase =
+    SystemOf<Reads<>, Writes<Position<D>, Velocity<D>, Clock, SrdCells<D>, SrdStepSums<D>, RunControl>>;
+
+// The device keeps the particles; synchronise_host brings them back when a
+// system that reads them runs.
+template <int D>
+class SrdDeviceStep : public SrdDeviceStepBase<D> {
  public:
   SrdDeviceStep(const DeviceStepParameters& p, const SrdCells<D>& cells, std::size_t particles) : p_(p) {
     device::SrdDeviceSetup s;
@@ -90,23 +97,21 @@ class SrdDeviceStep : public System {
                  device_->bytes() / 1e9, particles);
   }
 
+  using View = typename SrdDeviceStepBase<D>::View;
   std::string name() const override { return "srd_device_step"; }
-  Access access() const override {
-    return Access{}.writes<Position<D>, Velocity<D>, Clock, SrdCells<D>, SrdStepSums<D>, RunControl>();
-  }
 
-  void run(World& world) override {
-    auto& clock = world.resource<Clock>();
-    auto& cells = world.resource<SrdCells<D>>();
+  void run_on(View view) override {
+    auto& clock = view.template write<Clock>();
+    auto& cells = view.template write<SrdCells<D>>();
     // Observers' sums, where the World offers them (srd_step_sums.hpp).
-    SrdStepSums<D>* sums = world.has_resource<SrdStepSums<D>>() ? &world.resource<SrdStepSums<D>>() : nullptr;
+    SrdStepSums<D>* sums = view.template has<SrdStepSums<D>>() ? &view.template write<SrdStepSums<D>>() : nullptr;
     device::SrdSumRequests requests;
     if (sums) {
       for (const LayerSumsRequest& r : sums->layer_requests) requests.layers.push_back({r.axis, r.flow, r.layers});
       requests.stress = sums->stress_requested;
     }
     if (!uploaded_) {  // the initial state, or the one a checkpoint restored
-      device_->upload(world.component<Position<D>>().data()->data(), world.component<Velocity<D>>().data()->data());
+      device_->upload(view.template read<Position<D>>().data()->data(), view.template read<Velocity<D>>().data()->data());
       uploaded_ = true;
     }
     device::SrdDeviceStep in;
@@ -128,7 +133,7 @@ class SrdDeviceStep : public System {
     }
     cells.wall_reflections += report.reflections;
     if (report.stranded > 0)
-      world.resource<RunControl>().fail(stranded_failure(clock.time, clock.step, report.stranded, p_.dt));
+      view.template write<RunControl>().fail(stranded_failure(clock.time, clock.step, report.stranded, p_.dt));
     cells.clamped_cells = report.clamped_cells;
     cells.step_wall_work = report.wall_work;
     cells.step_collision_energy = report.collision_energy;

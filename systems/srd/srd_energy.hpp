@@ -25,6 +25,7 @@
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "systems/srd/srd_cells.hpp"
 
@@ -62,15 +63,15 @@ class EnergyLedger : public Stateful {
 
 // Every step, after the rotation.
 template <int D>
-class SrdEnergyAccount : public System {
+class SrdEnergyAccount : public SystemOf<Reads<SrdCells<D>>, Writes<EnergyLedger>> {
  public:
+  using View = typename SystemOf<Reads<SrdCells<D>>, Writes<EnergyLedger>>::View;
   explicit SrdEnergyAccount(std::shared_ptr<EnergyLedger> ledger) : ledger_(std::move(ledger)) {}
   std::string name() const override { return "account_srd_energy"; }
-  Access access() const override { return Access{}.reads<SrdCells<D>>().template writes<EnergyLedger>(); }
   // The step's energies are set on the host every step, wherever the step runs.
   bool reads_device_state(const World&) const override { return false; }
-  void run(World& world) override {
-    const auto& cells = world.resource<SrdCells<D>>();
+  void run_on(View view) override {
+    const auto& cells = view.template read<SrdCells<D>>();
     if (!cells.record_energy) throw std::logic_error("account_srd_energy needs SrdCells::record_energy");
     ledger_->injected += cells.step_wall_work;
     ledger_->dissipated -= cells.step_collision_energy;
@@ -82,16 +83,15 @@ class SrdEnergyAccount : public System {
 };
 
 template <int D>
-class SrdEnergyObserver : public System {
+class SrdEnergyObserver : public SystemOf<Reads<Position<D>, Velocity<D>, SrdCells<D>>, Writes<EnergyLedger>> {
  public:
+  using View = typename SystemOf<Reads<Position<D>, Velocity<D>, SrdCells<D>>, Writes<EnergyLedger>>::View;
   // acceleration: the body force per mass whose potential is counted.
   SrdEnergyObserver(std::shared_ptr<EnergyLedger> ledger, std::array<double, D> acceleration)
       : ledger_(std::move(ledger)), acceleration_(acceleration) {}
   std::string name() const override { return "observe_srd_energy"; }
   Access access() const override {
-    return Access{}
-        .reads<Position<D>, Velocity<D>, SrdCells<D>>()
-        .template writes<EnergyLedger>()
+    return View::access()
         .writes_observable("kinetic_energy", unit::energy)
         .writes_observable("potential_energy", unit::energy)
         .writes_observable("energy_injected", unit::energy)
@@ -99,15 +99,15 @@ class SrdEnergyObserver : public System {
         .writes_observable("energy_ghost_exchange", unit::energy)
         .writes_observable("energy_balance_error", unit::energy);
   }
-  void run(World& world) override {
-    const auto& cells = world.resource<SrdCells<D>>();
-    const auto& x = world.component<Position<D>>();
-    const auto& v = world.component<Velocity<D>>();
+  void run_on(View view) override {
+    const auto& cells = view.template read<SrdCells<D>>();
+    const auto& x = view.template read<Position<D>>();
+    const auto& v = view.template read<Velocity<D>>();
     const double m = cells.particle_mass;
-    const double kinetic = 0.5 * m * deterministic_sum(world.size(), [&](std::size_t i) { return v[i].squaredNorm(); });
+    const double kinetic = 0.5 * m * deterministic_sum(view.size(), [&](std::size_t i) { return v[i].squaredNorm(); });
     double g[D];
     for (int a = 0; a < D; ++a) g[a] = cells.bounded & (1u << a) ? acceleration_[a] : 0.0;
-    const double potential = -m * deterministic_sum(world.size(), [&](std::size_t i) {
+    const double potential = -m * deterministic_sum(view.size(), [&](std::size_t i) {
       double h = 0.0;
       for (int a = 0; a < D; ++a) h += g[a] * x[i][a];
       return h;
@@ -116,7 +116,7 @@ class SrdEnergyObserver : public System {
       ledger_->initial = kinetic + potential;
       ledger_->has_initial = true;
     }
-    auto& store = world.resource<ObservableStore>();
+    auto& store = view.observables();
     store.set("kinetic_energy", kinetic);
     store.set("potential_energy", potential);
     store.set("energy_injected", ledger_->injected);

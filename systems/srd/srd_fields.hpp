@@ -25,6 +25,7 @@
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "engine/io/h5md_file.hpp"
 #include "engine/io/xdmf_export.hpp"
@@ -38,8 +39,12 @@ inline const SystemDescription write_srd_fields_description{
     "write_srd_fields", "density, velocity and temperature fields on the unshifted grid, window-averaged, to /fields"};
 
 template <int D>
-class SrdFieldWriter : public System, public Stateful {
+using SrdFieldWriterBase = SystemOf<Reads<Position<D>, Velocity<D>, Mass, Clock, SrdCells<D>>, Writes<OutputFile>>;
+
+template <int D>
+class SrdFieldWriter : public SrdFieldWriterBase<D>, public Stateful {
  public:
+  using View = typename SrdFieldWriterBase<D>::View;
   SrdFieldWriter(std::array<std::int32_t, D> cells, std::int64_t every, std::int64_t window)
       : cells_(cells), every_(every), window_(std::min(window, every)) {
     std::size_t count = 1;
@@ -52,20 +57,17 @@ class SrdFieldWriter : public System, public Stateful {
   }
 
   std::string name() const override { return "write_srd_fields"; }
-  Access access() const override {
-    return Access{}.reads<Position<D>, Velocity<D>, Mass, Clock, SrdCells<D>>().template writes<OutputFile>();
-  }
 
   // Only the steps of a window read the particles.
   bool reads_device_state(const World& world) const override { return in_window(world.resource<Clock>().step); }
 
-  void run(World& world) override {
-    const auto& clock = world.resource<Clock>();
+  void run_on(View view) override {
+    const auto& clock = view.template read<Clock>();
     if (!in_window(clock.step)) return;
     const std::int64_t phase = clock.step % every_;
-    sample(world);
+    sample(view);
     if (phase != 0) return;
-    H5mdFile* file = world.resource<OutputFile>().file;
+    H5mdFile* file = view.template write<OutputFile>().file;
     if (file) write(*file, clock.step, clock.time);
     std::fill(particles_.begin(), particles_.end(), 0.0);
     std::fill(momentum_.begin(), momentum_.end(), 0.0);
@@ -121,14 +123,14 @@ class SrdFieldWriter : public System, public Stateful {
     return index;
   }
 
-  void sample(const World& world) {
-    const auto& x = world.component<Position<D>>();
-    const auto& v = world.component<Velocity<D>>();
-    const double* mass = world.has_component<Mass>() ? world.component<Mass>().data() : nullptr;
-    const double m0 = world.resource<SrdCells<D>>().particle_mass;
+  void sample(const View& view) {
+    const auto& x = view.template read<Position<D>>();
+    const auto& v = view.template read<Velocity<D>>();
+    const double* mass = view.template has<Mass>() ? view.template read<Mass>().data() : nullptr;
+    const double m0 = view.template read<SrdCells<D>>().particle_mass;
     const std::size_t count = particles_.size();
     std::vector<double> n(count, 0.0), m(count, 0.0), p(count * D, 0.0), e(count, 0.0);
-    for (std::size_t i = 0; i < world.size(); ++i) {
+    for (std::size_t i = 0; i < view.size(); ++i) {
       const std::uint32_t c = grid_cell(x[i]);
       const double mi = mass ? mass[i] : m0;
       n[c] += 1;

@@ -27,6 +27,7 @@
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "engine/io/h5md_file.hpp"
 #include "engine/run/run.hpp"
@@ -118,30 +119,31 @@ class ProfileSums : public Stateful {
 };
 
 template <int D>
-class SrdProfileSampler : public System {
+using SrdProfileSamplerBase = SystemOf<Reads<Position<D>, Velocity<D>, Clock>, Writes<ProfileSums, SrdStepSums<D>>>;
+
+template <int D>
+class SrdProfileSampler : public SrdProfileSamplerBase<D> {
  public:
+  using View = typename SrdProfileSamplerBase<D>::View;
   // axis: the walls' normal; flow: the velocity component profiled.
   SrdProfileSampler(int axis, int flow, std::shared_ptr<ProfileSums> sums) : axis_(axis), flow_(flow), sums_(std::move(sums)) {}
 
   std::string name() const override { return "sample_srd_profiles"; }
-  Access access() const override {
-    return Access{}.reads<Position<D>, Velocity<D>, Clock>().template writes<ProfileSums, SrdStepSums<D>>();
-  }
   bool reads_device_state(const World& world) const override { return !device_.ready(world); }
 
-  void run(World& world) override {
-    if (const auto* sums = device_.ready(world)) {
+  void run_on(View view) override {
+    if (const auto* sums = device_.ready(view)) {
       sums_->add(device_.layers(*sums));
       return;
     }
     const int layers = sums_->layers();
-    device_.ask(world, {axis_, flow_, layers});  // from the next step on, the device step sums
-    const auto& x = world.component<Position<D>>();
-    const auto& v = world.component<Velocity<D>>();
+    device_.ask(view, {axis_, flow_, layers});  // from the next step on, the device step sums
+    const auto& x = view.template read<Position<D>>();
+    const auto& v = view.template read<Velocity<D>>();
     const std::size_t w = sums_->width();
     std::vector<double> step(static_cast<std::size_t>(layers) * w, 0.0);
     // Serial: a fixed order, so the sums do not depend on the thread count.
-    for (std::size_t i = 0; i < world.size(); ++i) {
+    for (std::size_t i = 0; i < view.size(); ++i) {
       const int k = std::clamp(static_cast<int>(std::floor(x[i][axis_])), 0, layers - 1);
       double* s = &step[static_cast<std::size_t>(k) * w];
       s[0] += 1.0;
@@ -159,23 +161,22 @@ class SrdProfileSampler : public System {
 };
 
 template <int D>
-class SrdProfileObserver : public System {
+class SrdProfileObserver : public SystemOf<Reads<>, Writes<ProfileSums>> {
  public:
   SrdProfileObserver(double layer_volume, double mass, std::shared_ptr<ProfileSums> sums)
       : layer_volume_(layer_volume), mass_(mass), sums_(std::move(sums)) {}
 
   std::string name() const override { return "observe_srd_profiles"; }
   Access access() const override {
-    return Access{}
-        .writes<ProfileSums>()
+    return View::access()
         .writes_observable("velocity_profile", unit::velocity)
         .writes_observable("density_profile", "L-" + std::to_string(D))
         .writes_observable("temperature_profile", unit::energy);
   }
 
-  void run(World& world) override {
+  void run_on(View view) override {
     auto profiles = sums_->take_block(layer_volume_, mass_);
-    auto& store = world.resource<ObservableStore>();
+    auto& store = view.observables();
     store.set("velocity_profile", std::move(profiles.velocity));
     store.set("density_profile", std::move(profiles.density));
     store.set("temperature_profile", std::move(profiles.temperature));

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "components/clock.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 
 namespace granflow::srd {
@@ -61,18 +62,18 @@ class StepSumsRequest {
  public:
   // Registers `request` (and, with `stress`, the stress sums) where the
   // World has a device step; nothing otherwise.
-  void ask(World& world, const LayerSumsRequest& request, bool stress = false) {
-    if (asked_ || !world.has_resource<SrdStepSums<D>>()) return;
-    auto& sums = world.resource<SrdStepSums<D>>();
+  void ask(View<Reads<>, Writes<SrdStepSums<D>>> view, const LayerSumsRequest& request, bool stress = false) {
+    if (asked_ || !view.template has<SrdStepSums<D>>()) return;
+    auto& sums = view.template write<SrdStepSums<D>>();
     index_ = sums.ask(request);
     if (stress) sums.stress_requested = true;
     asked_ = true;
   }
   // The device step's sums of this step, or null where they are not there.
-  const SrdStepSums<D>* ready(const World& world) const {
-    if (!asked_ || !world.has_resource<SrdStepSums<D>>()) return nullptr;
-    const auto& sums = world.resource<SrdStepSums<D>>();
-    return sums.has_layers(index_, world.resource<Clock>().step) ? &sums : nullptr;
+  const SrdStepSums<D>* ready(const View<Reads<SrdStepSums<D>, Clock>, Writes<>>& view) const {
+    if (!asked_ || !view.template has<SrdStepSums<D>>()) return nullptr;
+    const auto& sums = view.template read<SrdStepSums<D>>();
+    return sums.has_layers(index_, view.template read<Clock>().step) ? &sums : nullptr;
   }
   const std::vector<double>& layers(const SrdStepSums<D>& sums) const { return sums.layers[index_]; }
 

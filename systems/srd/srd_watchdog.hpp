@@ -21,6 +21,7 @@
 #include "engine/core/observable_store.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "engine/run/run.hpp"
 #include "engine/run/run_control.hpp"
@@ -34,55 +35,53 @@ inline const SystemDescription watch_srd_state_description{
 inline const SystemDescription watch_srd_energy_description{
     "watch_srd_energy", "stops the run when the energy ledger no longer balances to round-off"};
 
-inline void fail_srd_run(World& world, const std::string& what) {
-  const auto& clock = world.resource<Clock>();
-  world.resource<RunControl>().fail(
+using SrdWatchView = View<Reads<Clock>, Writes<RunControl>>;
+
+inline void fail_srd_run(SrdWatchView view, const std::string& what) {
+  const auto& clock = view.read<Clock>();
+  view.write<RunControl>().fail(
       fmt::format("the SRD run failed at t = {:.6g} (step {}): {}", clock.time, clock.step, what));
 }
 
-inline double observed(World& world, const char* name) { return world.resource<ObservableStore>().scalar(name); }
+inline double observed(const SrdWatchView& view, const char* name) { return view.observables().scalar(name); }
 
-class SrdStateWatch : public System {
+class SrdStateWatch : public SystemOf<Reads<Clock>, Writes<RunControl>> {
  public:
   std::string name() const override { return "watch_srd_state"; }
   Access access() const override {
-    return Access{}
-        .reads<Clock>()
+    return View::access()
         .reads_observable("temperature")
-        .reads_observable("granular_temperature")
-        .writes<RunControl>();
+        .reads_observable("granular_temperature");
   }
-  void run(World& world) override {
-    const double temperature = observed(world, "temperature"), granular = observed(world, "granular_temperature");
+  void run_on(View view) override {
+    const double temperature = observed(view, "temperature"), granular = observed(view, "granular_temperature");
     if (!std::isfinite(temperature) || !std::isfinite(granular))
-      fail_srd_run(world, fmt::format("the fluid's temperature is not finite (thermal {}, granular {}): a velocity "
+      fail_srd_run(view, fmt::format("the fluid's temperature is not finite (thermal {}, granular {}): a velocity "
                                       "blew up; check srd.time_step, the force and the walls' motion",
                                       temperature, granular));
   }
 };
 
-class SrdEnergyWatch : public System {
+class SrdEnergyWatch : public SystemOf<Reads<Clock>, Writes<RunControl>> {
  public:
   static constexpr double tolerance = 1e-6;  // of the energy turned over
   std::string name() const override { return "watch_srd_energy"; }
   Access access() const override {
-    return Access{}
-        .reads<Clock>()
+    return View::access()
         .reads_observable("kinetic_energy")
         .reads_observable("potential_energy")
         .reads_observable("energy_injected")
         .reads_observable("energy_dissipated")
         .reads_observable("energy_ghost_exchange")
-        .reads_observable("energy_balance_error")
-        .writes<RunControl>();
+        .reads_observable("energy_balance_error");
   }
-  void run(World& world) override {
-    const double error = observed(world, "energy_balance_error");
-    const double turnover = observed(world, "kinetic_energy") + std::abs(observed(world, "potential_energy")) +
-                            observed(world, "energy_injected") + std::abs(observed(world, "energy_dissipated")) +
-                            std::abs(observed(world, "energy_ghost_exchange"));
+  void run_on(View view) override {
+    const double error = observed(view, "energy_balance_error");
+    const double turnover = observed(view, "kinetic_energy") + std::abs(observed(view, "potential_energy")) +
+                            observed(view, "energy_injected") + std::abs(observed(view, "energy_dissipated")) +
+                            std::abs(observed(view, "energy_ghost_exchange"));
     if (!std::isfinite(error) || std::abs(error) > tolerance * turnover)
-      fail_srd_run(world, fmt::format("the energy ledger is off by {:.4g} ({:.2g} of the {:.4g} turned over), far "
+      fail_srd_run(view, fmt::format("the energy ledger is off by {:.4g} ({:.2g} of the {:.4g} turned over), far "
                                       "beyond round-off: energy changed that no wall, collision or ghost booked; "
                                       "lower srd.time_step or the force",
                                       error, std::abs(error) / turnover, turnover));
