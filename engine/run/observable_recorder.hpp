@@ -15,6 +15,7 @@
 #include "engine/core/state_map.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "engine/run/output_file.hpp"
 
@@ -33,22 +34,21 @@ using ObservableHistory = std::map<std::string, std::vector<ObservableSample>>;
 StateMap save_history(const ObservableHistory& history);
 ObservableHistory load_history(const StateMap& saved);
 
-class ObservableRecorder : public System {
+class ObservableRecorder : public SystemOf<Reads<Clock>, Writes<OutputFile>> {
  public:
   explicit ObservableRecorder(std::vector<std::string> observables) : observables_(std::move(observables)) {}
 
   std::string name() const override { return "write_observables"; }
   Access access() const override {
     // It clears each slot's `fresh` flag, so it writes the observables it records.
-    Access access;
-    access.reads<Clock>().writes<OutputFile>();
+    Access access = View::access();
     for (const auto& name : observables_) access.writes_observable(name);
     return access;
   }
-  void run(World& world) override {
-    const auto& clock = world.resource<Clock>();
-    auto& store = world.resource<ObservableStore>();
-    H5mdFile* file = world.resource<OutputFile>().file;
+  void run_on(View view) override {
+    const auto& clock = view.read<Clock>();
+    auto& store = view.observables();
+    H5mdFile* file = view.write<OutputFile>().file;
     for (const auto& name : observables_) {
       auto& slot = store.slot(name);
       if (!slot.fresh) continue;

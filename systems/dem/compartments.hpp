@@ -25,6 +25,7 @@
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "engine/io/h5md_file.hpp"
 #include "engine/run/run.hpp"
@@ -100,21 +101,21 @@ class CompartmentCounts : public Stateful {
 };
 
 template <int D>
-class CompartmentSampler : public System {
+class CompartmentSampler : public SystemOf<Reads<Position<D>>, Writes<CompartmentCounts>> {
  public:
+  using View = typename SystemOf<Reads<Position<D>>, Writes<CompartmentCounts>>::View;
   CompartmentSampler(int axis, double position, std::shared_ptr<CompartmentCounts> counts)
       : axis_(axis), position_(position), counts_(std::move(counts)) {}
   std::string name() const override { return "sample_compartments"; }
-  Access access() const override { return Access{}.reads<Position<D>>().template writes<CompartmentCounts>(); }
-  void run(World& world) override {
-    const auto& x = world.component<Position<D>>();
+  void run_on(View view) override {
+    const auto& x = view.template read<Position<D>>();
     auto& c = *counts_;
-    if (c.left.size() != world.size()) {
-      c.left.assign(world.size(), 0.0);
-      for (std::size_t i = 0; i < world.size(); ++i) c.left[i] = x[i][axis_] < position_ ? 1.0 : 0.0;
+    if (c.left.size() != view.size()) {
+      c.left.assign(view.size(), 0.0);
+      for (std::size_t i = 0; i < view.size(); ++i) c.left[i] = x[i][axis_] < position_ ? 1.0 : 0.0;
       return;
     }
-    for (std::size_t i = 0; i < world.size(); ++i) {
+    for (std::size_t i = 0; i < view.size(); ++i) {
       const double now = x[i][axis_] < position_ ? 1.0 : 0.0;
       if (now < c.left[i]) c.left_to_right += 1.0;
       if (now > c.left[i]) c.right_to_left += 1.0;
@@ -129,28 +130,27 @@ class CompartmentSampler : public System {
 };
 
 template <int D>
-class CompartmentObserver : public System {
+class CompartmentObserver : public SystemOf<Reads<Position<D>, Clock>, Writes<CompartmentCounts>> {
  public:
+  using View = typename SystemOf<Reads<Position<D>, Clock>, Writes<CompartmentCounts>>::View;
   CompartmentObserver(int axis, double position, std::shared_ptr<CompartmentCounts> counts)
       : axis_(axis), position_(position), counts_(std::move(counts)) {}
   std::string name() const override { return "observe_compartments"; }
   Access access() const override {
-    return Access{}
-        .reads<Position<D>, Clock>()
-        .template writes<CompartmentCounts>()
+    return View::access()
         .writes_observable("asymmetry", unit::none)
         .writes_observable("flux_left_to_right", unit::none)
         .writes_observable("flux_right_to_left", unit::none);
   }
-  void run(World& world) override {
-    const auto& x = world.component<Position<D>>();
+  void run_on(View view) override {
+    const auto& x = view.template read<Position<D>>();
     double left = 0.0;
-    for (std::size_t i = 0; i < world.size(); ++i) left += x[i][axis_] < position_ ? 1.0 : 0.0;
-    const auto n = static_cast<double>(world.size());
+    for (std::size_t i = 0; i < view.size(); ++i) left += x[i][axis_] < position_ ? 1.0 : 0.0;
+    const auto n = static_cast<double>(view.size());
     const double a = n > 0 ? (2.0 * left - n) / n : 0.0;
     auto& c = *counts_;
     c.crossings += c.left_to_right + c.right_to_left;
-    if (world.resource<Clock>().time >= c.average_from) {
+    if (view.template read<Clock>().time >= c.average_from) {
       c.sum += a;
       c.abs_sum += std::abs(a);
       c.samples += 1.0;
@@ -160,7 +160,7 @@ class CompartmentObserver : public System {
       }
       c.last_left_fraction = n > 0 ? left / n : 0.0;
     }
-    auto& store = world.resource<ObservableStore>();
+    auto& store = view.observables();
     store.set("asymmetry", a);
     store.set("flux_left_to_right", counts_->left_to_right);
     store.set("flux_right_to_left", counts_->right_to_left);

@@ -31,6 +31,7 @@
 #include "components/velocity.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "systems/dem/contact_law.hpp"
 #include "systems/dem/dem_walls.hpp"
@@ -63,23 +64,23 @@ struct DemInteractions {
 };
 
 template <int D>
-class DemContactForces : public System {
+using DemContactForcesBase = SystemOf<Reads<Clock, Position<D>, Velocity<D>, AngularVelocity, Radius, Mass, Box<D>>,
+                                      Writes<Force<D>, Torque, NeighbourList<D>, DemInteractions<D>>>;
+
+template <int D>
+class DemContactForces : public DemContactForcesBase<D> {
   static_assert(D == 2 || D == 3);
 
  public:
+  using View = typename DemContactForcesBase<D>::View;
   std::string name() const override { return "dem_contact_forces"; }
-  Access access() const override {
-    return Access{}
-        .reads<Clock, Position<D>, Velocity<D>, AngularVelocity, Radius, Mass, Box<D>>()
-        .template writes<Force<D>, Torque, NeighbourList<D>, DemInteractions<D>>();
-  }
 
-  void run(World& world) override {
-    auto& in = world.resource<DemInteractions<D>>();
+  void run_on(View view) override {
+    auto& in = view.template write<DemInteractions<D>>();
     if constexpr (D == 3) {
-      if (in.friction.active()) return evaluate<true>(world, in);
+      if (in.friction.active()) return evaluate<true>(view, in);
     }
-    evaluate<false>(world, in);
+    evaluate<false>(view, in);
   }
 
  private:
@@ -90,24 +91,24 @@ class DemContactForces : public System {
   static constexpr std::size_t block = 256;   // pairs evaluated together before their forces are handed out
 
   template <bool Friction>
-  void evaluate(World& world, DemInteractions<D>& in) {
-    const std::size_t n = world.size();
-    auto& nl = world.resource<NeighbourList<D>>();
+  void evaluate(View view, DemInteractions<D>& in) {
+    const std::size_t n = view.size();
+    auto& nl = view.template write<NeighbourList<D>>();
     const std::size_t walls = in.walls.size();
     const std::size_t slabs = nl.slabs.size() - 1;
     pair_partial_.assign(pair_sums * slabs, 0.0);
     if (!mass_checked_) {
       // Masses and radii are constants of a run.
-      const auto& mass = world.component<Mass>();
-      const auto& radius = world.component<Radius>();
+      const auto& mass = view.template read<Mass>();
+      const auto& radius = view.template read<Radius>();
       uniform_mass_ = n > 0 && std::all_of(mass.values.begin(), mass.values.end(), [&](double m) { return m == mass[0]; });
       same_radius_ = n > 0 && std::all_of(radius.values.begin(), radius.values.end(), [&](double r) { return r == radius[0]; });
       mass_checked_ = true;
     }
-    if (candidates_of_build_ != nl.builds || wall_candidates_.size() != walls) find_wall_candidates(world, in, nl);
+    if (candidates_of_build_ != nl.builds || wall_candidates_.size() != walls) find_wall_candidates(view, in, nl);
     for (auto& partial : wall_partial_) partial.assign(wall_sums * slabs, 0.0);
     // Where each wall is and how fast it moves, once per step, not per slab.
-    const double t = world.resource<Clock>().time;
+    const double t = view.template read<Clock>().time;
     wall_motion_.resize(walls);
     for (std::size_t wi = 0; wi < walls; ++wi) wall_motion_[wi] = {in.walls[wi].position(t), in.walls[wi].velocity(t)};
     // Each thread its own domain of spheres and slabs (thread_domains.hpp):
@@ -121,8 +122,8 @@ class DemContactForces : public System {
     for (std::size_t d = 0; d < count; ++d) pieces[d] = domains.slab[d + 1] - domains.slab[d];
     for_each_piece(pieces, [&](std::size_t d, std::size_t k) {
       const std::size_t slab = domains.slab[d] + k;
-      gravity(world, in, nl, nl.slabs[slab], nl.slabs[slab + 1]);
-      walls_on_candidates<Friction>(world, in, nl, slab);
+      gravity(view, in, nl, nl.slabs[slab], nl.slabs[slab + 1]);
+      walls_on_candidates<Friction>(view, in, nl, slab);
     });
     const std::size_t first_slab = nl.periodic_slabs ? 1 : 0;
     for (std::size_t parity = 0; parity < 2; ++parity) {
@@ -133,9 +134,9 @@ class DemContactForces : public System {
         from[d] = low + (low % 2 != parity ? 1 : 0);
         pieces[d] = from[d] < high ? (high - from[d] + 1) / 2 : 0;
       }
-      for_each_piece(pieces, [&](std::size_t d, std::size_t k) { slab_pairs<Friction>(world, in, nl, from[d] + 2 * k); });
+      for_each_piece(pieces, [&](std::size_t d, std::size_t k) { slab_pairs<Friction>(view, in, nl, from[d] + 2 * k); });
     }
-    if (nl.periodic_slabs) slab_pairs<Friction>(world, in, nl, 0);
+    if (nl.periodic_slabs) slab_pairs<Friction>(view, in, nl, 0);
     double wall_total[wall_sums] = {}, pair_total[pair_sums] = {};
     in.wall_force.assign(walls, 0.0);
     for (std::size_t wi = 0; wi < walls; ++wi)
@@ -154,26 +155,26 @@ class DemContactForces : public System {
 
   // The pairs of one slab, in order: each pair's force goes to both its spheres.
   template <bool Friction>
-  void slab_pairs(World& world, const DemInteractions<D>& in, NeighbourList<D>& nl, std::size_t slab) {
+  void slab_pairs(View view, const DemInteractions<D>& in, NeighbourList<D>& nl, std::size_t slab) {
     const std::size_t begin = nl.offsets[nl.slabs[slab]], end = nl.offsets[nl.slabs[slab + 1]];
     double* out = &pair_partial_[pair_sums * slab];
-    if constexpr (Friction) frictional_pairs(world, in, nl, begin, end, out);
-    else normal_pairs(world, in, nl, begin, end, out);
+    if constexpr (Friction) frictional_pairs(view, in, nl, begin, end, out);
+    else normal_pairs(view, in, nl, begin, end, out);
   }
 
   // Without friction: the vectorised kernel over a block of pairs, then the
   // block's forces handed out.
-  void normal_pairs(World& world, const DemInteractions<D>& in, const NeighbourList<D>& nl, std::size_t begin,
+  void normal_pairs(View view, const DemInteractions<D>& in, const NeighbourList<D>& nl, std::size_t begin,
                     std::size_t end, double* out) {
-    auto& force = world.component<Force<D>>();
+    auto& force = view.template write<Force<D>>();
     PairSweep<D> sweep;
-    sweep.x = world.component<Position<D>>().values.data()->data();
-    sweep.v = world.component<Velocity<D>>().values.data()->data();
-    sweep.radius = world.component<Radius>().values.data();
-    sweep.mass = world.component<Mass>().values.data();
+    sweep.x = view.template read<Position<D>>().values.data()->data();
+    sweep.v = view.template read<Velocity<D>>().values.data()->data();
+    sweep.radius = view.template read<Radius>().values.data();
+    sweep.mass = view.template read<Mass>().values.data();
     sweep.first = nl.first.data();
     sweep.second = nl.list.data();
-    const auto& box = world.resource<Box<D>>();
+    const auto& box = view.template read<Box<D>>();
     const auto half = box.half_periods();
     for (int a = 0; a < D; ++a) {
       sweep.length[a] = box.length[a];
@@ -215,17 +216,17 @@ class DemContactForces : public System {
 
   // With friction (3D): each pair's normal and tangential force, and the
   // torque -r n x F_t it gives each of its spheres (with its own radius).
-  void frictional_pairs(World& world, const DemInteractions<D>& in, NeighbourList<D>& nl, std::size_t begin,
+  void frictional_pairs(View view, const DemInteractions<D>& in, NeighbourList<D>& nl, std::size_t begin,
                         std::size_t end, double* out) {
     if constexpr (D == 3) {
-      const auto& x = world.component<Position<D>>();
-      const auto& v = world.component<Velocity<D>>();
-      const auto& radius = world.component<Radius>();
-      const auto& mass = world.component<Mass>();
-      const auto& omega = world.component<AngularVelocity>();
-      auto& force = world.component<Force<D>>();
-      auto& torque = world.component<Torque>();
-      const auto& box = world.resource<Box<D>>();
+      const auto& x = view.template read<Position<D>>();
+      const auto& v = view.template read<Velocity<D>>();
+      const auto& radius = view.template read<Radius>();
+      const auto& mass = view.template read<Mass>();
+      const auto& omega = view.template read<AngularVelocity>();
+      auto& force = view.template write<Force<D>>();
+      auto& torque = view.template write<Torque>();
+      const auto& box = view.template read<Box<D>>();
       const ContactLaw law = in.law;
       const TangentialFriction friction = in.friction;
       for (std::size_t p = begin; p < end; ++p) {
@@ -273,10 +274,10 @@ class DemContactForces : public System {
 
   // The force of each sphere of ranks [from, to) starts with its weight
   // (and its torque at zero).
-  void gravity(World& world, const DemInteractions<D>& in, const NeighbourList<D>& nl, std::size_t from, std::size_t to) {
-    const auto& mass = world.component<Mass>();
-    double* const f = world.component<Force<D>>().values.data()->data();
-    Vec<3>* torque = world.has_component<Torque>() ? world.component<Torque>().values.data() : nullptr;
+  void gravity(View view, const DemInteractions<D>& in, const NeighbourList<D>& nl, std::size_t from, std::size_t to) {
+    const auto& mass = view.template read<Mass>();
+    double* const f = view.template write<Force<D>>().values.data()->data();
+    Vec<3>* torque = view.template has<Torque>() ? view.template write<Torque>().values.data() : nullptr;
     std::array<double, D> g{};
     for (int a = 0; a < D; ++a) g[a] = in.gravity[a];
     if (nl.reorder) {
@@ -298,8 +299,8 @@ class DemContactForces : public System {
   // within their radius and the skin of where the wall can be at the last
   // build (between builds no sphere moves as much as half the skin). Found
   // at every build; the others' wall springs are zero (they do not touch).
-  void find_wall_candidates(World& world, const DemInteractions<D>& in, NeighbourList<D>& nl) {
-    const auto& radius = world.component<Radius>();
+  void find_wall_candidates(View view, const DemInteractions<D>& in, NeighbourList<D>& nl) {
+    const auto& radius = view.template read<Radius>();
     const std::size_t walls = in.walls.size(), slabs = nl.slabs.size() - 1;
     wall_candidates_.assign(walls, {});
     wall_candidate_start_.assign(walls, std::vector<std::uint32_t>(slabs + 1, 0));
@@ -330,15 +331,15 @@ class DemContactForces : public System {
   // Each wall's contacts with its candidates in one slab, one wall after
   // another (a sphere may touch two), summed per slab.
   template <bool Rotating>
-  void walls_on_candidates(World& world, const DemInteractions<D>& in, NeighbourList<D>& nl, std::size_t slab) {
-    const auto& x = world.component<Position<D>>();
-    const auto& v = world.component<Velocity<D>>();
-    const auto& radius = world.component<Radius>();
-    const auto& mass = world.component<Mass>();
-    auto& force = world.component<Force<D>>();
+  void walls_on_candidates(View view, const DemInteractions<D>& in, NeighbourList<D>& nl, std::size_t slab) {
+    const auto& x = view.template read<Position<D>>();
+    const auto& v = view.template read<Velocity<D>>();
+    const auto& radius = view.template read<Radius>();
+    const auto& mass = view.template read<Mass>();
+    auto& force = view.template write<Force<D>>();
     constexpr bool rotating = D == 3 && Rotating;
-    [[maybe_unused]] const Vec<3>* omega = rotating ? world.component<AngularVelocity>().values.data() : nullptr;
-    [[maybe_unused]] Vec<3>* torque = rotating ? world.component<Torque>().values.data() : nullptr;
+    [[maybe_unused]] const Vec<3>* omega = rotating ? view.template read<AngularVelocity>().values.data() : nullptr;
+    [[maybe_unused]] Vec<3>* torque = rotating ? view.template write<Torque>().values.data() : nullptr;
     const std::size_t walls = in.walls.size();
     const TangentialFriction friction = in.friction;
     for (std::size_t wi = 0; wi < walls; ++wi) {

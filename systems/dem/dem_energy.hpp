@@ -21,6 +21,7 @@
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "systems/dem/contact_forces.hpp"
 
@@ -50,14 +51,14 @@ struct DemLedger : Stateful {
 
 // Every step, after the forces.
 template <int D>
-class DemEnergyAccount : public System {
+class DemEnergyAccount : public SystemOf<Reads<DemInteractions<D>>, Writes<DemLedger>> {
  public:
+  using View = typename SystemOf<Reads<DemInteractions<D>>, Writes<DemLedger>>::View;
   explicit DemEnergyAccount(double dt) : dt_(dt) {}
   std::string name() const override { return "dem_energy_account"; }
-  Access access() const override { return Access{}.reads<DemInteractions<D>>().template writes<DemLedger>(); }
-  void run(World& world) override {
-    const auto& in = world.resource<DemInteractions<D>>();
-    auto& ledger = world.resource<DemLedger>();
+  void run_on(View view) override {
+    const auto& in = view.template read<DemInteractions<D>>();
+    auto& ledger = view.template write<DemLedger>();
     ledger.injected += 0.5 * dt_ * (ledger.last_wall_power + in.wall_power);
     ledger.dissipated += 0.5 * dt_ * (ledger.last_dissipation_power + in.dissipation_power);
     ledger.last_wall_power = in.wall_power;
@@ -69,12 +70,16 @@ class DemEnergyAccount : public System {
 };
 
 template <int D>
-class DemEnergyObserver : public System {
+using DemEnergyObserverBase =
+    SystemOf<Reads<Position<D>, Velocity<D>, AngularVelocity, Radius, Mass, DemInteractions<D>, DemLedger>, Writes<>>;
+
+template <int D>
+class DemEnergyObserver : public DemEnergyObserverBase<D> {
  public:
+  using View = typename DemEnergyObserverBase<D>::View;
   std::string name() const override { return "observe_dem_energy"; }
   Access access() const override {
-    return Access{}
-        .reads<Position<D>, Velocity<D>, AngularVelocity, Radius, Mass, DemInteractions<D>, DemLedger>()
+    return View::access()
         .writes_observable("kinetic_energy", unit::energy)
         .writes_observable("potential_energy", unit::energy)
         .writes_observable("elastic_energy", unit::energy)
@@ -83,17 +88,18 @@ class DemEnergyObserver : public System {
         .writes_observable("contact_count", unit::none)
         .writes_observable("coordination_number", unit::none);
   }
-  void run(World& world) override {
-    const auto& x = world.component<Position<D>>();
-    const auto& v = world.component<Velocity<D>>();
-    const auto& m = world.component<Mass>();
-    const auto& in = world.resource<DemInteractions<D>>();
-    const auto& ledger = world.resource<DemLedger>();
-    const std::size_t n = world.size();
-    auto& store = world.resource<ObservableStore>();
+  void run_on(View view) override {
+    const auto& x = view.template read<Position<D>>();
+    const auto& v = view.template read<Velocity<D>>();
+    const auto& m = view.template read<Mass>();
+    const auto& in = view.template read<DemInteractions<D>>();
+    const auto& ledger = view.template read<DemLedger>();
+    const std::size_t n = view.size();
+    auto& store = view.observables();
     // With friction the spheres rotate: I w^2 / 2 with I = (2/5) m r^2.
-    const Vec<3>* w = world.has_component<AngularVelocity>() ? world.component<AngularVelocity>().values.data() : nullptr;
-    const auto& r = world.component<Radius>();
+    const Vec<3>* w =
+        view.template has<AngularVelocity>() ? view.template read<AngularVelocity>().values.data() : nullptr;
+    const auto& r = view.template read<Radius>();
     store.set("kinetic_energy", 0.5 * deterministic_sum(n, [&](std::size_t i) {
                 return m[i] * v[i].squaredNorm() + (w ? 0.4 * m[i] * r[i] * r[i] * w[i].squaredNorm() : 0.0);
               }));

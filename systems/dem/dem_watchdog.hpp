@@ -29,6 +29,7 @@
 #include "engine/core/state_map.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "engine/run/run_control.hpp"
 
@@ -49,28 +50,29 @@ struct DemWatch {
 
 // Stops the run with `what` (at the clock's time) and the advice.
 template <int D>
-void fail_run(World& world, const std::string& what) {
-  const auto& clock = world.resource<Clock>();
-  world.resource<RunControl>().fail(fmt::format("the soft-sphere integration failed at t = {:.6g} (step {}): {}. {}",
-                                                clock.time, clock.step, what, world.resource<DemWatch<D>>().advice));
+void fail_run(View<Reads<Clock, DemWatch<D>>, Writes<RunControl>> view, const std::string& what) {
+  const auto& clock = view.template read<Clock>();
+  view.template write<RunControl>().fail(
+      fmt::format("the soft-sphere integration failed at t = {:.6g} (step {}): {}. {}", clock.time, clock.step, what,
+                  view.template read<DemWatch<D>>().advice));
 }
 
 // Called when the drift found a sphere out of bounds: names the first one.
 template <int D>
-void report_escaped_sphere(World& world) {
-  const auto& x = world.component<Position<D>>();
-  const auto& watch = world.resource<DemWatch<D>>();
-  const auto* id = world.has_component<ParticleId>() ? &world.component<ParticleId>() : nullptr;
+void report_escaped_sphere(View<Reads<Clock, DemWatch<D>, Position<D>, ParticleId>, Writes<RunControl>> view) {
+  const auto& x = view.template read<Position<D>>();
+  const auto& watch = view.template read<DemWatch<D>>();
+  const auto* id = view.template has<ParticleId>() ? &view.template read<ParticleId>() : nullptr;
   constexpr const char* axis_name[] = {"x", "y", "z"};
-  for (std::size_t i = 0; i < world.size(); ++i)
+  for (std::size_t i = 0; i < view.size(); ++i)
     for (int a = 0; a < D; ++a) {
       const double p = x[i][a];
       if (p >= watch.lower[a] && p <= watch.upper[a]) continue;
       const auto sphere = id ? (*id)[i] : i;
       if (!std::isfinite(p))
-        return fail_run<D>(world, fmt::format("sphere {} has a position that is not finite ({} = {})", sphere,
+        return fail_run<D>(view, fmt::format("sphere {} has a position that is not finite ({} = {})", sphere,
                                               axis_name[a], p));
-      return fail_run<D>(world, fmt::format("sphere {} went through a wall: {} = {:.6g}, outside the walls' reach "
+      return fail_run<D>(view, fmt::format("sphere {} went through a wall: {} = {:.6g}, outside the walls' reach "
                                             "[{:.6g}, {:.6g}]",
                                             sphere, axis_name[a], p, watch.lower[a], watch.upper[a]));
     }
@@ -78,28 +80,27 @@ void report_escaped_sphere(World& world) {
 
 // The energy balance at every output, after observe_dem_energy.
 template <int D>
-class DemEnergyWatch : public System, public Stateful {
+class DemEnergyWatch : public SystemOf<Reads<Clock, DemWatch<D>>, Writes<RunControl>>, public Stateful {
  public:
+  using View = typename SystemOf<Reads<Clock, DemWatch<D>>, Writes<RunControl>>::View;
   static constexpr double tolerance = 0.25;  // of the energy turned over
   std::string name() const override { return "watch_dem_energy"; }
   Access access() const override {
-    return Access{}
-        .reads<Clock, DemWatch<D>>()
+    return View::access()
         .reads_observable("kinetic_energy")
         .reads_observable("potential_energy")
         .reads_observable("elastic_energy")
         .reads_observable("energy_injected")
-        .reads_observable("energy_dissipated")
-        .template writes<RunControl>();
+        .reads_observable("energy_dissipated");
   }
-  void run(World& world) override {
-    auto& store = world.resource<ObservableStore>();
+  void run_on(View view) override {
+    auto& store = view.observables();
     const double kinetic = store.scalar("kinetic_energy"), potential = store.scalar("potential_energy");
     const double elastic = store.scalar("elastic_energy"), injected = store.scalar("energy_injected");
     const double dissipated = store.scalar("energy_dissipated");
     const double energy = kinetic + potential + elastic;
     if (!std::isfinite(energy) || !std::isfinite(injected) || !std::isfinite(dissipated))
-      return fail_run<D>(world, fmt::format("the energy is not finite (kinetic {}, potential {}, elastic {})", kinetic,
+      return fail_run<D>(view, fmt::format("the energy is not finite (kinetic {}, potential {}, elastic {})", kinetic,
                                             potential, elastic));
     if (!started_) {
       started_ = true;
@@ -109,7 +110,7 @@ class DemEnergyWatch : public System, public Stateful {
     const double error = std::abs(energy - start_[0] - start_[1] - (injected - dissipated));
     const double turnover = kinetic + elastic + start_[0] + std::abs(potential - start_[1]) + injected + dissipated;
     if (error > tolerance * turnover)
-      fail_run<D>(world, fmt::format("the energy changed by {:.4g} since the start, but the walls injected {:.4g} and "
+      fail_run<D>(view, fmt::format("the energy changed by {:.4g} since the start, but the walls injected {:.4g} and "
                                      "the contacts dissipated {:.4g}: the step created {:.4g} ({:.0f} % of the energy "
                                      "turned over)",
                                      energy - start_[0] - start_[1], injected, dissipated,

@@ -33,6 +33,7 @@
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/units.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "engine/io/h5md_file.hpp"
 #include "engine/run/run.hpp"
@@ -64,16 +65,17 @@ struct HeightProfiles {
 };
 
 template <int D>
-HeightProfiles height_profiles(const World& world, const HeightProfileGeometry& g) {
-  const auto& x = world.component<Position<D>>();
-  const auto& v = world.component<Velocity<D>>();
-  const auto& r = world.component<Radius>();
-  const auto& m = world.component<Mass>();
+HeightProfiles height_profiles(const View<Reads<Position<D>, Velocity<D>, Radius, Mass>, Writes<>>& view,
+                               const HeightProfileGeometry& g) {
+  const auto& x = view.template read<Position<D>>();
+  const auto& v = view.template read<Velocity<D>>();
+  const auto& r = view.template read<Radius>();
+  const auto& m = view.template read<Mass>();
   const std::size_t parts = g.suffixes().size(), k_count = g.layers();
   // Per part and layer: volume, count, mass, momentum (D), m |v|^2.
   const std::size_t w = 4 + D;
   std::vector<double> sums(parts * k_count * w, 0.0);
-  for (std::size_t i = 0; i < world.size(); ++i) {
+  for (std::size_t i = 0; i < view.size(); ++i) {
     const double h = x[i][g.up];
     if (h < 0.0 || h >= g.height) continue;
     const auto k = static_cast<std::size_t>(h / g.layer);
@@ -105,22 +107,22 @@ HeightProfiles height_profiles(const World& world, const HeightProfileGeometry& 
 }
 
 template <int D>
-class DemHeightProfiles : public System {
+class DemHeightProfiles : public SystemOf<Reads<Position<D>, Velocity<D>, Radius, Mass>, Writes<>> {
  public:
+  using View = typename SystemOf<Reads<Position<D>, Velocity<D>, Radius, Mass>, Writes<>>::View;
   explicit DemHeightProfiles(HeightProfileGeometry g) : g_(g) {}
   std::string name() const override { return "observe_dem_height_profiles"; }
   Access access() const override {
-    Access a;
-    a.reads<Position<D>, Velocity<D>, Radius, Mass>();
+    Access a = View::access();
     for (const std::string& suffix : g_.suffixes()) {
       a.writes_observable("packing_fraction_profile" + suffix, unit::none);
       a.writes_observable("temperature_profile" + suffix, unit::energy);
     }
     return a;
   }
-  void run(World& world) override {
-    HeightProfiles now = height_profiles<D>(world, g_);
-    auto& store = world.resource<ObservableStore>();
+  void run_on(View view) override {
+    HeightProfiles now = height_profiles<D>(view, g_);
+    auto& store = view.observables();
     for (std::size_t part = 0; part < now.packing.size(); ++part) {
       store.set("packing_fraction_profile" + g_.suffixes()[part], std::move(now.packing[part]));
       store.set("temperature_profile" + g_.suffixes()[part], std::move(now.temperature[part]));
@@ -142,15 +144,15 @@ inline const SystemDescription observe_dem_height_profile_average_description{
     "observe_dem_height_profile_average", "time averages of the height profiles, sampled through the shaking cycle"};
 
 template <int D>
-class DemHeightProfileAverage : public System, public Stateful {
+class DemHeightProfileAverage : public SystemOf<Reads<Clock, Position<D>, Velocity<D>, Radius, Mass>, Writes<>>,
+                                public Stateful {
  public:
+  using View = typename SystemOf<Reads<Clock, Position<D>, Velocity<D>, Radius, Mass>, Writes<>>::View;
   explicit DemHeightProfileAverage(HeightProfileGeometry g) : g_(g) {}
   std::string name() const override { return "observe_dem_height_profile_average"; }
-  Access access() const override { return Access{}.reads<Clock, Position<D>, Velocity<D>, Radius, Mass>(); }
-
-  void run(World& world) override {
-    if (world.resource<Clock>().time < g_.average_from) return;
-    const HeightProfiles now = height_profiles<D>(world, g_);
+  void run_on(View view) override {
+    if (view.template read<Clock>().time < g_.average_from) return;
+    const HeightProfiles now = height_profiles<D>(view, g_);
     const std::size_t parts = now.packing.size(), k_count = g_.layers();
     // Per part and layer: sum of packing fractions, of count x temperature, of counts.
     sums_.resize(parts * k_count * 3, 0.0);

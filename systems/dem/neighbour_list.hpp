@@ -35,6 +35,7 @@
 #include "engine/core/state_map.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "engine/run/run_control.hpp"
 #include "systems/dem/dem_watchdog.hpp"
@@ -142,13 +143,13 @@ struct NeighbourList : Stateful {
 // of ranks, which are their indices when they are kept in cell order),
 // equal runs of indices before.
 template <int D>
-ThreadDomains sphere_domains(const World& world) {
+ThreadDomains sphere_domains(const View<Reads<NeighbourList<D>>, Writes<>>& view) {
   const std::size_t threads = domain_threads();
-  if (world.has_resource<NeighbourList<D>>()) {
-    const auto& nl = world.resource<NeighbourList<D>>();
-    if (nl.domains.covers(world.size()) && nl.domains.count() == threads) return nl.domains;
+  if (view.template has<NeighbourList<D>>()) {
+    const auto& nl = view.template read<NeighbourList<D>>();
+    if (nl.domains.covers(view.size()) && nl.domains.count() == threads) return nl.domains;
   }
-  return even_domains(world.size(), threads);
+  return even_domains(view.size(), threads);
 }
 
 // The largest squared displacement of the spheres [from, to) since the
@@ -182,40 +183,40 @@ inline void raise_to(std::atomic<double>& largest, double value) {
 }
 
 template <int D>
-class DemNeighbourList : public System {
- public:
-  std::string name() const override { return "dem_neighbour_list"; }
-  Access access() const override {
-    // A build may reorder every column (World::permute).
-    return Access{}
-        .reads<Clock, Radius, Box<D>, DemWatch<D>>()
-        .template writes<Position<D>, NeighbourList<D>, RunControl>()
-        .writes_every_component();
-  }
+using DemNeighbourListBase = SystemOf<Reads<Clock, Radius, Box<D>, DemWatch<D>>,
+                                      Writes<Position<D>, NeighbourList<D>, RunControl, EveryColumn>>;
 
-  void run(World& world) override {
-    auto& nl = world.resource<NeighbourList<D>>();
-    if (!nl.built() || moved_too_far(world, nl)) build(world, nl);
+// A build may reorder the spheres (World::permute), which moves every column.
+template <int D>
+class DemNeighbourList : public DemNeighbourListBase<D> {
+ public:
+  using View = typename DemNeighbourListBase<D>::View;
+  std::string name() const override { return "dem_neighbour_list"; }
+
+  void run_on(View view) override {
+    auto& nl = view.template write<NeighbourList<D>>();
+    if (!nl.built() || moved_too_far(view, nl)) build(view, nl);
   }
 
   // Whether some sphere moved more than half the skin since the last build:
   // the drift's figure of this step where it gave one, else measured here.
-  static bool moved_too_far(const World& world, const NeighbourList<D>& nl) {
+  static bool moved_too_far(const granflow::View<Reads<Clock, Position<D>, Box<D>, NeighbourList<D>>, Writes<>>& view,
+                            const NeighbourList<D>& nl) {
     const double limit = 0.25 * nl.skin * nl.skin;
-    if (nl.displacement_step == world.resource<Clock>().step) return !(nl.displacement_squared <= limit);
-    const auto& x = world.component<Position<D>>();
-    const auto& box = world.resource<Box<D>>();
+    if (nl.displacement_step == view.template read<Clock>().step) return !(nl.displacement_squared <= limit);
+    const auto& x = view.template read<Position<D>>();
+    const auto& box = view.template read<Box<D>>();
     std::atomic<double> largest{0.0};
-    for_each_sphere_run(sphere_domains<D>(world), [&](std::size_t, std::size_t from, std::size_t to) {
+    for_each_sphere_run(sphere_domains<D>(view), [&](std::size_t, std::size_t from, std::size_t to) {
       raise_to(largest, largest_displacement_squared(x.values.data(), nl, box, from, to));
     });
     return !(largest <= limit);
   }
 
-  static void build(World& world, NeighbourList<D>& nl) {
-    const auto& box = world.resource<Box<D>>();
-    const std::size_t n = world.size();
-    const auto& radii = world.component<Radius>();
+  static void build(View view, NeighbourList<D>& nl) {
+    const auto& box = view.template read<Box<D>>();
+    const std::size_t n = view.size();
+    const auto& radii = view.template read<Radius>();
     const double largest = n ? *std::max_element(radii.values.begin(), radii.values.end()) : 0.0;
     const double range = 2.0 * largest + nl.skin;
     std::array<int, D> cells{};
@@ -248,13 +249,13 @@ class DemNeighbourList : public System {
     std::vector<std::uint32_t> cell(n), start(cell_count + 1, 0), members(n);
     std::atomic<bool> escaped{false};
     {
-      const auto& x = world.component<Position<D>>();
+      const auto& x = view.template read<Position<D>>();
       std::array<double, D> lower, upper;
       lower.fill(-std::numeric_limits<double>::infinity());
       upper.fill(std::numeric_limits<double>::infinity());
-      if (world.has_resource<DemWatch<D>>()) {
-        lower = world.resource<DemWatch<D>>().lower;
-        upper = world.resource<DemWatch<D>>().upper;
+      if (view.template has<DemWatch<D>>()) {
+        lower = view.template read<DemWatch<D>>().lower;
+        upper = view.template read<DemWatch<D>>().upper;
       }
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
         bool inside = true;
@@ -285,11 +286,11 @@ class DemNeighbourList : public System {
       previous.wall_shear.swap(nl.wall_shear);
     }
     if (nl.reorder) {
-      world.permute(members);
+      view.permute(members);
       was = members;
     }
-    const auto& x = world.component<Position<D>>();
-    const auto& radius = world.component<Radius>();
+    const auto& x = view.template read<Position<D>>();
+    const auto& radius = view.template read<Radius>();
     // The spheres by rank: their index, position, radius and cell; the
     // candidates of a cell are then contiguous.
     nl.order.resize(n);
@@ -399,7 +400,7 @@ class DemNeighbourList : public System {
     nl.domains = balanced_domains(nl.slabs, nl.offsets, domain_threads());
     nl.reference.assign(x.values.begin(), x.values.end());
     ++nl.builds;
-    if (escaped) report_escaped_sphere<D>(world);
+    if (escaped) report_escaped_sphere<D>(view);
   }
 
  private:

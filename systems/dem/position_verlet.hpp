@@ -17,6 +17,7 @@
 #include "components/velocity.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "systems/dem/neighbour_list.hpp"
 
@@ -31,14 +32,15 @@ struct PreviousPosition : Column<Vec<D>> {
 };
 
 template <int D>
-class DemPositionVerlet : public System {
+using DemPositionVerletBase = SystemOf<Reads<Force<D>, Mass, Box<D>, NeighbourList<D>>,
+                                       Writes<Position<D>, Velocity<D>, PreviousPosition<D>, ImageCount<D>, Clock>>;
+
+template <int D>
+class DemPositionVerlet : public DemPositionVerletBase<D> {
  public:
+  using View = typename DemPositionVerletBase<D>::View;
   explicit DemPositionVerlet(double dt) : dt_(dt) {}
   std::string name() const override { return "dem_position_verlet"; }
-  Access access() const override {
-    return Access{}.reads<Force<D>, Mass, Box<D>, NeighbourList<D>>()
-        .template writes<Position<D>, Velocity<D>, PreviousPosition<D>, ImageCount<D>, Clock>();
-  }
 
   // The previous positions of a start from x and v: x - v dt + F dt^2 / 2m,
   // the Taylor step back.
@@ -52,19 +54,19 @@ class DemPositionVerlet : public System {
     for (std::size_t i = 0; i < world.size(); ++i) previous[i] = x[i] - dt * v[i] + (0.5 * dt * dt / m[i]) * f[i];
   }
 
-  void run(World& world) override {
-    auto& clock = world.resource<Clock>();
+  void run_on(View view) override {
+    auto& clock = view.template write<Clock>();
     ++clock.step;
     clock.time = static_cast<double>(clock.step) * dt_;
-    auto& x = world.component<Position<D>>();
-    auto& v = world.component<Velocity<D>>();
-    auto& previous = world.component<PreviousPosition<D>>();
-    const auto& f = world.component<Force<D>>();
-    const auto& m = world.component<Mass>();
-    const auto& box = world.resource<Box<D>>();
-    auto* images = world.has_component<ImageCount<D>>() ? &world.component<ImageCount<D>>() : nullptr;
+    auto& x = view.template write<Position<D>>();
+    auto& v = view.template write<Velocity<D>>();
+    auto& previous = view.template write<PreviousPosition<D>>();
+    const auto& f = view.template read<Force<D>>();
+    const auto& m = view.template read<Mass>();
+    const auto& box = view.template read<Box<D>>();
+    auto* images = view.template has<ImageCount<D>>() ? &view.template write<ImageCount<D>>() : nullptr;
     const double dt = dt_;
-    const ThreadDomains domains = sphere_domains<D>(world);
+    const ThreadDomains domains = sphere_domains<D>(view);
     for_each_sphere_run(domains, [&](std::size_t, std::size_t from, std::size_t to) {
       for (std::size_t i = from; i < to; ++i) {
         const Vec<D> next = 2.0 * x[i] - previous[i] + (dt * dt / m[i]) * f[i];

@@ -22,6 +22,7 @@
 #include "components/velocity.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "systems/dem/neighbour_list.hpp"
 
@@ -33,13 +34,13 @@ inline const SystemDescription dem_kick_description{"dem_kick", "velocity Verlet
 
 // w += T dt / 2I for every sphere of a world whose spheres rotate.
 template <int D>
-void kick_rotation(World& world, double dt) {
-  if (!world.has_component<AngularVelocity>()) return;
-  auto& w = world.component<AngularVelocity>();
-  const auto& torque = world.component<Torque>();
-  const auto& m = world.component<Mass>();
-  const auto& r = world.component<Radius>();
-  const ThreadDomains domains = sphere_domains<D>(world);
+void kick_rotation(View<Reads<Torque, Mass, Radius, NeighbourList<D>>, Writes<AngularVelocity>> view, double dt) {
+  if (!view.template has<AngularVelocity>()) return;
+  auto& w = view.template write<AngularVelocity>();
+  const auto& torque = view.template read<Torque>();
+  const auto& m = view.template read<Mass>();
+  const auto& r = view.template read<Radius>();
+  const ThreadDomains domains = sphere_domains<D>(view);
   for_each_sphere_run(domains, [&](std::size_t, std::size_t from, std::size_t to) {
     for (std::size_t i = from; i < to; ++i)
       w[i] += (0.5 * dt / (0.4 * m[i] * r[i] * r[i])) * torque[i];
@@ -47,24 +48,24 @@ void kick_rotation(World& world, double dt) {
 }
 
 template <int D>
-class DemKickDrift : public System {
+using DemKickDriftBase = SystemOf<Reads<Force<D>, Torque, Mass, Radius, Box<D>>,
+                                  Writes<Position<D>, Velocity<D>, ImageCount<D>, AngularVelocity, Clock, NeighbourList<D>>>;
+
+template <int D>
+class DemKickDrift : public DemKickDriftBase<D> {
  public:
+  using View = typename DemKickDriftBase<D>::View;
   explicit DemKickDrift(double dt) : dt_(dt) {}
   std::string name() const override { return "dem_kick_drift"; }
-  Access access() const override {
-    return Access{}
-        .reads<Force<D>, Torque, Mass, Radius, Box<D>, NeighbourList<D>>()
-        .template writes<Position<D>, Velocity<D>, ImageCount<D>, AngularVelocity, Clock, NeighbourList<D>>();
-  }
-  void run(World& world) override {
-    auto& clock = world.resource<Clock>();
+  void run_on(View view) override {
+    auto& clock = view.template write<Clock>();
     ++clock.step;
     clock.time = static_cast<double>(clock.step) * dt_;
-    auto& x = world.component<Position<D>>();
-    auto& v = world.component<Velocity<D>>();
-    const auto& f = world.component<Force<D>>();
-    const auto& m = world.component<Mass>();
-    const auto& box = world.resource<Box<D>>();
+    auto& x = view.template write<Position<D>>();
+    auto& v = view.template write<Velocity<D>>();
+    const auto& f = view.template read<Force<D>>();
+    const auto& m = view.template read<Mass>();
+    const auto& box = view.template read<Box<D>>();
     const double dt = dt_;
     // A sphere moves much less than a box length per step: one compare and
     // select each way puts it back, without a branch.
@@ -76,15 +77,15 @@ class DemKickDrift : public System {
     double* const xs = x.values.data()->data();
     double* const vs = v.values.data()->data();
     std::int32_t* const images =
-        world.has_component<ImageCount<D>>() ? world.component<ImageCount<D>>().values.data()->data() : nullptr;
+        view.template has<ImageCount<D>>() ? view.template write<ImageCount<D>>().values.data()->data() : nullptr;
     const double* const fs = f.values.data()->data();
     // With the lists built, each run of spheres also measures how far they
     // have moved since, while their positions are in cache: the lists' skin
     // test then has no pass of its own.
-    NeighbourList<D>* nl = world.has_resource<NeighbourList<D>>() ? &world.resource<NeighbourList<D>>() : nullptr;
-    if (nl && !(nl->built() && nl->reference.size() == world.size())) nl = nullptr;
+    NeighbourList<D>* nl = view.template has<NeighbourList<D>>() ? &view.template write<NeighbourList<D>>() : nullptr;
+    if (nl && !(nl->built() && nl->reference.size() == view.size())) nl = nullptr;
     std::atomic<double> moved{0.0};
-    const ThreadDomains domains = sphere_domains<D>(world);
+    const ThreadDomains domains = sphere_domains<D>(view);
     // Images are counted where an axis is periodic; a parameter of the
     // template, so that a box without one carries no test for them.
     const auto drift = [&]<bool CountImages>(std::size_t from, std::size_t to) {
@@ -115,7 +116,7 @@ class DemKickDrift : public System {
       nl->displacement_squared = moved;
       nl->displacement_step = clock.step;
     }
-    kick_rotation<D>(world, dt);
+    kick_rotation<D>(view, dt);
   }
 
  private:
@@ -123,25 +124,24 @@ class DemKickDrift : public System {
 };
 
 template <int D>
-class DemKick : public System {
+using DemKickBase = SystemOf<Reads<Force<D>, Torque, Mass, Radius, NeighbourList<D>>, Writes<Velocity<D>, AngularVelocity>>;
+
+template <int D>
+class DemKick : public DemKickBase<D> {
  public:
+  using View = typename DemKickBase<D>::View;
   explicit DemKick(double dt) : dt_(dt) {}
   std::string name() const override { return "dem_kick"; }
-  Access access() const override {
-    return Access{}
-        .reads<Force<D>, Torque, Mass, Radius, NeighbourList<D>>()
-        .template writes<Velocity<D>, AngularVelocity>();
-  }
-  void run(World& world) override {
-    auto& v = world.component<Velocity<D>>();
-    const auto& f = world.component<Force<D>>();
-    const auto& m = world.component<Mass>();
+  void run_on(View view) override {
+    auto& v = view.template write<Velocity<D>>();
+    const auto& f = view.template read<Force<D>>();
+    const auto& m = view.template read<Mass>();
     const double dt = dt_;
-    const ThreadDomains domains = sphere_domains<D>(world);
+    const ThreadDomains domains = sphere_domains<D>(view);
     for_each_sphere_run(domains, [&](std::size_t, std::size_t from, std::size_t to) {
       for (std::size_t i = from; i < to; ++i) v[i] += (0.5 * dt / m[i]) * f[i];
     });
-    kick_rotation<D>(world, dt);
+    kick_rotation<D>(view, dt);
   }
 
  private:

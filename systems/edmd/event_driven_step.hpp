@@ -15,6 +15,7 @@
 #include "components/velocity.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
 #include "engine/run/run_control.hpp"
 #include "systems/edmd/event_driven_gas.hpp"
 
@@ -23,28 +24,28 @@ namespace granflow::edmd {
 inline const SystemDescription edmd_advance_description{"edmd_advance", "event-driven hard spheres/disks up to the next target time or collision count (cells, O(1) calendar, TC model)"};
 
 template <int D>
-class EventDrivenStep : public System {
+using EventDrivenStepBase =
+    SystemOf<Reads<RunControl>, Writes<Position<D>, Velocity<D>, Clock, RunControl, EventDrivenGas<D>, EveryColumn>>;
+
+// The gas keeps the particles' columns between synchronisations and re-sorts
+// them (World::permute): the step writes every column.
+template <int D>
+class EventDrivenStep : public EventDrivenStepBase<D> {
  public:
+  using View = typename EventDrivenStepBase<D>::View;
   explicit EventDrivenStep(AdvanceLimits limits) : limits_(limits) {}
 
   std::string name() const override { return "edmd_advance"; }
-  // A re-sort of the particles (World::permute) writes every column.
-  Access access() const override {
-    return Access{}
-        .reads<RunControl>()
-        .template writes<Position<D>, Velocity<D>, Clock, RunControl, EventDrivenGas<D>>()
-        .writes_every_component();
-  }
 
-  void run(World& world) override {
-    auto& gas = world.resource<EventDrivenGas<D>>();
-    auto& control = world.resource<RunControl>();
+  void run_on(View view) override {
+    auto& gas = view.template write<EventDrivenGas<D>>();
+    auto& control = view.template write<RunControl>();
     AdvanceLimits limits = limits_;
     if (control.target_step >= 0)
       limits.max_pair_collisions = std::min(limits.max_pair_collisions, static_cast<std::uint64_t>(control.target_step));
     limits.interrupt = control.interrupt;
     StopReason reason = gas.advance(control.target_time, limits);
-    auto& clock = world.resource<Clock>();
+    auto& clock = view.template write<Clock>();
     if (reason == StopReason::interrupted) {
       // Left between two events; the engine's own state holds the particles.
       clock.time = gas.time();

@@ -39,5 +39,39 @@ TEST(View, ReadsAndWritesTheWorldsColumns) {
   EXPECT_EQ(&view.read<Position<2>>(), &world.component<Position<2>>());
 }
 
+// A helper that declares less than its caller: the caller's view narrows to it.
+double total_speed(const View<Reads<Velocity<2>>, Writes<>>& view) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < view.size(); ++i) sum += view.read<Velocity<2>>()[i].norm();
+  return sum;
+}
+
+TEST(View, NarrowsToAHelpersViewOfTheSameWorld) {
+  World world;
+  world.resize(2);
+  world.add_component<Velocity<2>>().values = {Vec<2>(3.0, 4.0), Vec<2>(0.0, 2.0)};
+  world.add_component<Position<2>>().values = {Vec<2>::Zero(), Vec<2>::Zero()};
+  Drift view(world);
+  EXPECT_DOUBLE_EQ(total_speed(view), 7.0);
+  // A World converts too: setup code hands it to the same helpers.
+  EXPECT_DOUBLE_EQ(total_speed(world), 7.0);
+}
+
+TEST(View, EveryColumnDeclaresAReorderingAndMayPermute) {
+  using Sorter = View<Reads<>, Writes<EveryColumn>>;
+  const Access access = Sorter::access();
+  ASSERT_EQ(access.write_keys().size(), 1u);
+  EXPECT_EQ(access.write_keys()[0].kind, AccessKey::Kind::every_component);
+  World world;
+  world.resize(3);
+  world.add_component<Mass>().values = {1.0, 2.0, 3.0};
+  Sorter sorter(world);
+  sorter.permute({2, 0, 1});
+  // Any column may be read and written through it.
+  EXPECT_EQ(sorter.read<Mass>().values, (std::vector<double>{3.0, 1.0, 2.0}));
+  sorter.write<Mass>()[0] = 4.0;
+  EXPECT_EQ(world.component<Mass>()[0], 4.0);
+}
+
 }  // namespace
 }  // namespace granflow
