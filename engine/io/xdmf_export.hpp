@@ -4,7 +4,7 @@
 //
 // ParaView's Xdmf3 readers read neither a hyperslab of a [frames, ...]
 // dataset nor a two-component vector. So every array of every frame is an
-// HDF5 virtual dataset in a small companion file, OUT.h5 beside OUT.xdmf,
+// HDF5 virtual dataset in a small companion file, OUT.xdmf.h5 beside OUT.xdmf,
 // that maps onto its slice of the result file without copying it; vectors of
 // 2D runs are padded with a zero third component (the plane z = 0). The
 // companion names the result file by a path relative to itself: keep the
