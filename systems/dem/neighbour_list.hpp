@@ -41,6 +41,7 @@
 #include "systems/dem/dem_watchdog.hpp"
 #include "systems/dem/nearest_image.hpp"
 #include "systems/dem/thread_domains.hpp"
+#include "systems/geometry/cell_grid.hpp"
 #include "systems/geometry/counting_sort.hpp"
 
 namespace granflow::dem {
@@ -182,6 +183,29 @@ inline void raise_to(std::atomic<double>& largest, double value) {
   }
 }
 
+// The cells of a build: at least one interaction range wide; wider where a
+// box much larger than the spheres need (a tall, empty box, tiny spheres)
+// would otherwise ask for more cells than memory holds (wider cells only
+// list more candidates). A periodic axis of fewer than three cells would
+// meet the same neighbour from both sides: it gets one.
+template <int D>
+CellGrid<D> list_cells(const Box<D>& box, double range, std::size_t spheres) {
+  std::array<double, D> wanted{};
+  double total = 1.0;
+  for (int k = 0; k < D; ++k) {
+    wanted[k] = std::max(1.0, std::floor(box.length[k] / range));
+    total *= wanted[k];
+  }
+  const double most = std::max(8.0 * static_cast<double>(spheres), 65536.0);
+  const double shrink = total > most ? std::pow(most / total, 1.0 / D) : 1.0;
+  std::array<int, D> cells{};
+  for (int k = 0; k < D; ++k) {
+    cells[k] = static_cast<int>(std::clamp(std::floor(wanted[k] * shrink), 1.0, most));
+    if (box.periodic[k] && cells[k] < 3) cells[k] = 1;
+  }
+  return CellGrid<D>({}, box.length, cells, box.periodic);
+}
+
 template <int D>
 using DemNeighbourListBase = SystemOf<Reads<Clock, Radius, Box<D>, DemWatch<D>>,
                                       Writes<Position<D>, NeighbourList<D>, RunControl, EveryColumn>>;
@@ -218,30 +242,8 @@ class DemNeighbourList : public DemNeighbourListBase<D> {
     const std::size_t n = view.size();
     const auto& radii = view.template read<Radius>();
     const double largest = n ? *std::max_element(radii.values.begin(), radii.values.end()) : 0.0;
-    const double range = 2.0 * largest + nl.skin;
-    std::array<int, D> cells{};
-    std::array<std::size_t, D> stride{};
-    std::array<double, D> per_length{};
-    std::size_t cell_count = 1;
-    // Cells at least one range wide; wider where a box much larger than the
-    // spheres need (a tall, empty box, tiny spheres) would otherwise ask for
-    // more cells than memory holds. Wider cells only list more candidates.
-    std::array<double, D> wanted{};
-    double total = 1.0;
-    for (int k = 0; k < D; ++k) {
-      wanted[k] = std::max(1.0, std::floor(box.length[k] / range));
-      total *= wanted[k];
-    }
-    const double most = std::max(8.0 * static_cast<double>(n), 65536.0);
-    const double shrink = total > most ? std::pow(most / total, 1.0 / D) : 1.0;
-    for (int k = 0; k < D; ++k) {
-      cells[k] = static_cast<int>(std::clamp(std::floor(wanted[k] * shrink), 1.0, most));
-      // A periodic axis of fewer than three cells would list an image twice.
-      if (box.periodic[k] && cells[k] < 3) cells[k] = 1;
-      stride[k] = cell_count;
-      per_length[k] = cells[k] / box.length[k];
-      cell_count *= static_cast<std::size_t>(cells[k]);
-    }
+    const CellGrid<D> grid = list_cells(box, 2.0 * largest + nl.skin, n);
+    const std::size_t cell_count = grid.cell_count();
     // Counting sort of the spheres by cell; the same pass holds every
     // position to the walls' reach (dem_watchdog.hpp). A sphere through a
     // wall or not finite moves on (or is NaN) and so forces a build soon:
@@ -260,15 +262,9 @@ class DemNeighbourList : public DemNeighbourListBase<D> {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
         bool inside = true;
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
-          std::size_t c = 0;
-          for (int k = 0; k < D; ++k) {
-            inside &= (x[i][k] >= lower[k]) & (x[i][k] <= upper[k]);  // false for NaN
-            // In double first: a sphere far outside (the watchdog then stops the run) or not finite lands in an edge cell.
-            const double s = std::floor(x[i][k] * per_length[k]);
-            const int q = s > 0.0 ? static_cast<int>(std::min(s, static_cast<double>(cells[k] - 1))) : 0;
-            c += stride[k] * static_cast<std::size_t>(q);
-          }
-          cell[i] = static_cast<std::uint32_t>(c);
+          for (int k = 0; k < D; ++k) inside &= (x[i][k] >= lower[k]) & (x[i][k] <= upper[k]);  // false for NaN
+          // A sphere far outside (the watchdog then stops the run) or not finite lands in an edge cell.
+          cell[i] = static_cast<std::uint32_t>(grid.cell_of(x[i]));
         }
         if (!inside) escaped.store(true, std::memory_order_relaxed);
       });
@@ -308,9 +304,9 @@ class DemNeighbourList : public DemNeighbourListBase<D> {
       }
     });
     // One slab per layer of cells along the last axis.
-    const std::size_t layers = static_cast<std::size_t>(cells[D - 1]);
+    const auto layers = static_cast<std::size_t>(grid.cells(D - 1));
     nl.slabs.resize(layers + 1);
-    for (std::size_t s = 0; s <= layers; ++s) nl.slabs[s] = start[s * stride[D - 1]];
+    for (std::size_t s = 0; s <= layers; ++s) nl.slabs[s] = start[s * grid.stride(D - 1)];
     nl.periodic_slabs = box.periodic[D - 1] && layers > 1;
     const std::array<double, D> half = box.half_periods();
     const double skin = nl.skin;
@@ -320,38 +316,17 @@ class DemNeighbourList : public DemNeighbourListBase<D> {
     // cell by rank.
     const auto visit = [&](std::uint32_t m, std::vector<std::uint32_t>& out) {
       const std::size_t home = sorted_cell[m];
-      // Along each axis the (at most three) neighbouring cell coordinates, as index terms.
-      std::array<std::array<std::size_t, 3>, D> term{};
-      std::array<int, D> count{};
-      for (int k = 0; k < D; ++k) {
-        const int h = static_cast<int>(home / stride[k] % static_cast<std::size_t>(cells[k]));
-        for (int o = -1; o <= 1; ++o) {
-          int q = h + o;
-          if (cells[k] == 1 && o != 0) continue;  // one cell along k: visited once
-          if (box.periodic[k]) q = (q + cells[k]) % cells[k];
-          else if (q < 0 || q >= cells[k]) continue;
-          term[k][count[k]++] = stride[k] * static_cast<std::size_t>(q);
-        }
-      }
       // The candidate ranges of ranks: the cells at or after home, within home after m.
       std::array<std::array<std::uint32_t, 2>, 27> ranges{};
       int count_ranges = 0;
       std::size_t candidates = 0;
-      const auto take = [&](std::size_t c) {
+      grid.for_each_neighbour(home, [&](std::size_t c) {
         if (c < home) return;
         const std::uint32_t begin = c == home ? m + 1 : start[c], end = start[c + 1];
         if (end <= begin) return;
         ranges[count_ranges++] = {begin, end};
         candidates += end - begin;
-      };
-      if constexpr (D == 2) {
-        for (int b = 0; b < count[1]; ++b)
-          for (int a = 0; a < count[0]; ++a) take(term[1][b] + term[0][a]);
-      } else {
-        for (int e = 0; e < count[2]; ++e)
-          for (int b = 0; b < count[1]; ++b)
-            for (int a = 0; a < count[0]; ++a) take(term[2][e] + term[1][b] + term[0][a]);
-      }
+      });
       std::size_t filled = out.size();
       out.resize(filled + candidates);
       std::uint32_t* const slot = out.data();

@@ -1,9 +1,9 @@
 #pragma once
 // The cell lists that placing particles needs: cells over a region at least
-// the largest contact distance wide, so that every particle a point can
-// touch lies in the cells around it. Random sequential addition asks whether
-// a trial position touches anything; compression walks each particle's
-// neighbours to push overlapping pairs apart.
+// the largest contact distance wide (systems/geometry/cell_grid.hpp), so
+// that every particle a point can touch lies in the cells around it. Random
+// sequential addition asks whether a trial position touches anything;
+// compression walks each particle's neighbours to push overlapping pairs apart.
 
 #include <algorithm>
 #include <array>
@@ -13,6 +13,7 @@
 
 #include "components/box.hpp"
 #include "components/vector.hpp"
+#include "systems/geometry/cell_grid.hpp"
 
 namespace granflow {
 
@@ -32,86 +33,54 @@ std::array<bool, D> wrapping_axes(const Box<D>& box, const PlacementRegion<D>& r
   return wraps;
 }
 
+// Cell lists that grow as particles are placed: random sequential addition
+// asks about a trial position before it places the next particle, so the
+// cells are linked lists (a counting sort bins a finished set only).
 template <int D>
 class PlacementGrid {
  public:
   // Along periodic axes of the box that the region spans fully, the cells
-  // wrap around; elsewhere the region ends.
-  PlacementGrid(const Box<D>& box, const PlacementRegion<D>& region, double contact, std::size_t count)
-      : lower_(region.lower), wraps_(wrapping_axes(box, region)) {
+  // wrap around; elsewhere the region ends. Cells are at least `contact`
+  // wide, so the block of cells around a point holds everything it touches.
+  PlacementGrid(const Box<D>& box, const PlacementRegion<D>& region, double contact, std::size_t count) {
+    std::array<double, D> extent{};
+    std::array<int, D> cells{};
     std::size_t total = 1;
     for (int a = 0; a < D; ++a) {
-      const double extent = region.upper[a] - region.lower[a];
-      cells_[a] = std::max<std::int64_t>(1, static_cast<std::int64_t>(extent / contact));
+      extent[a] = region.upper[a] - region.lower[a];
+      std::int64_t n = std::max<std::int64_t>(1, static_cast<std::int64_t>(extent[a] / contact));
       // A few cells per particle at most, however small the particles.
-      while (total * static_cast<std::size_t>(cells_[a]) > 4 * count + 64 && cells_[a] > 1) cells_[a] /= 2;
-      width_[a] = extent / static_cast<double>(cells_[a]);
-      total *= static_cast<std::size_t>(cells_[a]);
-      reach_[a] = static_cast<std::int64_t>(std::ceil(contact / width_[a]));
+      while (total * static_cast<std::size_t>(n) > 4 * count + 64 && n > 1) n /= 2;
+      cells[a] = static_cast<int>(n);
+      total *= static_cast<std::size_t>(n);
     }
-    head_.assign(total, -1);
+    grid_ = CellGrid<D>(region.lower, extent, cells, wrapping_axes(box, region));
+    head_.assign(grid_.cell_count(), -1);
     next_.assign(count, -1);
   }
-
-  const std::array<bool, D>& wraps() const { return wraps_; }
 
   void clear() { std::fill(head_.begin(), head_.end(), -1); }
 
   void insert(std::size_t i, const Vec<D>& x) {
-    const std::size_t k = linear(coordinates(x));
+    const std::size_t k = grid_.cell_of(x);
     next_[i] = head_[k];
     head_[k] = static_cast<std::int64_t>(i);
   }
 
-  // Calls visit(k) for each particle k in the cells within contact distance
-  // of x (where the grid has fewer cells along a wrapping axis than that
-  // reach spans, a cell comes more than once), until visit returns true;
-  // returns whether one did.
+  // Calls visit(k) for each particle k in the cells around x, each once,
+  // until visit returns true; returns whether one did.
   template <class Visit>
   bool any_near(const Vec<D>& x, Visit visit) const {
-    const auto c = coordinates(x);
-    std::array<std::int64_t, D> o{};
-    for (int a = 0; a < D; ++a) o[a] = -reach_[a];
-    while (true) {
-      std::array<std::int64_t, D> n{};
-      bool inside = true;
-      for (int a = 0; a < D; ++a) {
-        n[a] = c[a] + o[a];
-        if (n[a] < 0 || n[a] >= cells_[a]) {
-          if (!wraps_[a]) inside = false;
-          n[a] = ((n[a] % cells_[a]) + cells_[a]) % cells_[a];
-        }
-      }
-      if (inside)
-        for (std::int64_t k = head_[linear(n)]; k >= 0; k = next_[static_cast<std::size_t>(k)])
-          if (visit(static_cast<std::size_t>(k))) return true;
-      int a = 0;
-      for (; a < D; ++a) {
-        if (++o[a] <= reach_[a]) break;
-        o[a] = -reach_[a];
-      }
-      if (a == D) return false;
-    }
+    bool found = false;
+    grid_.for_each_neighbour(grid_.cell_of(x), [&](std::size_t cell) {
+      for (std::int64_t k = head_[cell]; k >= 0 && !found; k = next_[static_cast<std::size_t>(k)])
+        found = visit(static_cast<std::size_t>(k));
+    });
+    return found;
   }
 
  private:
-  std::array<std::int64_t, D> coordinates(const Vec<D>& x) const {
-    std::array<std::int64_t, D> c{};
-    for (int a = 0; a < D; ++a)
-      c[a] = std::clamp<std::int64_t>(static_cast<std::int64_t>((x[a] - lower_[a]) / width_[a]), 0, cells_[a] - 1);
-    return c;
-  }
-  std::size_t linear(const std::array<std::int64_t, D>& c) const {
-    std::size_t k = 0;
-    for (int a = D - 1; a >= 0; --a) k = k * static_cast<std::size_t>(cells_[a]) + static_cast<std::size_t>(c[a]);
-    return k;
-  }
-
-  std::array<double, D> lower_{};
-  std::array<bool, D> wraps_{};
-  std::array<std::int64_t, D> cells_{};
-  std::array<double, D> width_{};
-  std::array<std::int64_t, D> reach_{};
+  CellGrid<D> grid_;
   std::vector<std::int64_t> head_, next_;
 };
 
