@@ -183,6 +183,80 @@ inline void raise_to(std::atomic<double>& largest, double value) {
   }
 }
 
+// The partners of every sphere into nl.offsets, nl.list and nl.first: of
+// the sphere of rank m (ranks in cell order; `sorted` holds their position
+// and radius, `sorted_cell` their cell, `start` where each cell's ranks
+// begin), the spheres later in cell order within reach.
+template <int D>
+void list_partners(const CellGrid<D>& grid, const std::vector<std::uint32_t>& start,
+                   const std::vector<std::uint32_t>& sorted_cell, const std::vector<std::array<double, D + 1>>& sorted,
+                   const Box<D>& box, NeighbourList<D>& nl) {
+  const std::size_t n = sorted.size();
+  const std::array<double, D> half = box.half_periods();
+  const double skin = nl.skin;
+  // The partners of the sphere of rank m: the spheres later in cell order
+  // within reach. Only cells at or after its own hold them: a pair of
+  // neighbouring cells is searched from the earlier one, the pairs of one
+  // cell by rank.
+  const auto visit = [&](std::uint32_t m, std::vector<std::uint32_t>& out) {
+    const std::size_t home = sorted_cell[m];
+    // The candidate ranges of ranks: the cells at or after home, within home after m.
+    std::array<std::array<std::uint32_t, 2>, 27> ranges{};
+    int count_ranges = 0;
+    std::size_t candidates = 0;
+    grid.for_each_neighbour(home, [&](std::size_t c) {
+      if (c < home) return;
+      const std::uint32_t begin = c == home ? m + 1 : start[c], end = start[c + 1];
+      if (end <= begin) return;
+      ranges[count_ranges++] = {begin, end};
+      candidates += end - begin;
+    });
+    std::size_t filled = out.size();
+    out.resize(filled + candidates);
+    std::uint32_t* const slot = out.data();
+    const auto& me = sorted[m];
+    for (int r = 0; r < count_ranges; ++r)
+      for (std::uint32_t q = ranges[r][0]; q < ranges[r][1]; ++q) {
+        const auto& other = sorted[q];
+        double d2 = 0.0;
+        for (int k = 0; k < D; ++k) {
+          const double d = nearest_image(me[k] - other[k], box.length[k], half[k]);
+          d2 += d * d;
+        }
+        const double reach = me[D] + other[D] + skin;
+        slot[filled] = nl.order[q];
+        filled += d2 < reach * reach;
+      }
+    out.resize(filled);
+  };
+  // One pass: each fixed chunk of ranks lists its partners in its own
+  // buffer; the chunks are then joined in order (the same list on any
+  // thread count).
+  constexpr std::size_t chunk = 256;
+  const std::size_t chunks = (n + chunk - 1) / chunk;
+  std::vector<std::vector<std::uint32_t>> pieces(chunks);
+  nl.offsets.assign(n + 1, 0);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t q) {
+    auto& piece = pieces[q];
+    piece.reserve(8 * chunk);
+    const std::size_t end = std::min(n, (q + 1) * chunk);
+    for (std::size_t m = q * chunk; m < end; ++m) {
+      const std::size_t before = piece.size();
+      visit(static_cast<std::uint32_t>(m), piece);
+      nl.offsets[m + 1] = static_cast<std::uint32_t>(piece.size() - before);
+    }
+  });
+  for (std::size_t m = 0; m < n; ++m) nl.offsets[m + 1] += nl.offsets[m];
+  nl.list.resize(nl.offsets[n]);
+  nl.first.resize(nl.offsets[n]);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t q) {
+    std::copy(pieces[q].begin(), pieces[q].end(), nl.list.begin() + nl.offsets[q * chunk]);
+    const std::size_t end = std::min(n, (q + 1) * chunk);
+    for (std::size_t m = q * chunk; m < end; ++m)
+      std::fill(nl.first.begin() + nl.offsets[m], nl.first.begin() + nl.offsets[m + 1], nl.order[m]);
+  });
+}
+
 // The cells of a build: at least one interaction range wide; wider where a
 // box much larger than the spheres need (a tall, empty box, tiny spheres)
 // would otherwise ask for more cells than memory holds (wider cells only
@@ -308,69 +382,7 @@ class DemNeighbourList : public DemNeighbourListBase<D> {
     nl.slabs.resize(layers + 1);
     for (std::size_t s = 0; s <= layers; ++s) nl.slabs[s] = start[s * grid.stride(D - 1)];
     nl.periodic_slabs = box.periodic[D - 1] && layers > 1;
-    const std::array<double, D> half = box.half_periods();
-    const double skin = nl.skin;
-    // The partners of the sphere of rank m: the spheres later in cell order
-    // within reach. Only cells at or after its own hold them: a pair of
-    // neighbouring cells is searched from the earlier one, the pairs of one
-    // cell by rank.
-    const auto visit = [&](std::uint32_t m, std::vector<std::uint32_t>& out) {
-      const std::size_t home = sorted_cell[m];
-      // The candidate ranges of ranks: the cells at or after home, within home after m.
-      std::array<std::array<std::uint32_t, 2>, 27> ranges{};
-      int count_ranges = 0;
-      std::size_t candidates = 0;
-      grid.for_each_neighbour(home, [&](std::size_t c) {
-        if (c < home) return;
-        const std::uint32_t begin = c == home ? m + 1 : start[c], end = start[c + 1];
-        if (end <= begin) return;
-        ranges[count_ranges++] = {begin, end};
-        candidates += end - begin;
-      });
-      std::size_t filled = out.size();
-      out.resize(filled + candidates);
-      std::uint32_t* const slot = out.data();
-      const auto& me = sorted[m];
-      for (int r = 0; r < count_ranges; ++r)
-        for (std::uint32_t q = ranges[r][0]; q < ranges[r][1]; ++q) {
-          const auto& other = sorted[q];
-          double d2 = 0.0;
-          for (int k = 0; k < D; ++k) {
-            const double d = nearest_image(me[k] - other[k], box.length[k], half[k]);
-            d2 += d * d;
-          }
-          const double reach = me[D] + other[D] + skin;
-          slot[filled] = nl.order[q];
-          filled += d2 < reach * reach;
-        }
-      out.resize(filled);
-    };
-    // One pass: each fixed chunk of ranks lists its partners in its own
-    // buffer; the chunks are then joined in order (the same list on any
-    // thread count).
-    constexpr std::size_t chunk = 256;
-    const std::size_t chunks = (n + chunk - 1) / chunk;
-    std::vector<std::vector<std::uint32_t>> pieces(chunks);
-    nl.offsets.assign(n + 1, 0);
-    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t q) {
-      auto& piece = pieces[q];
-      piece.reserve(8 * chunk);
-      const std::size_t end = std::min(n, (q + 1) * chunk);
-      for (std::size_t m = q * chunk; m < end; ++m) {
-        const std::size_t before = piece.size();
-        visit(static_cast<std::uint32_t>(m), piece);
-        nl.offsets[m + 1] = static_cast<std::uint32_t>(piece.size() - before);
-      }
-    });
-    for (std::size_t m = 0; m < n; ++m) nl.offsets[m + 1] += nl.offsets[m];
-    nl.list.resize(nl.offsets[n]);
-    nl.first.resize(nl.offsets[n]);
-    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t q) {
-      std::copy(pieces[q].begin(), pieces[q].end(), nl.list.begin() + nl.offsets[q * chunk]);
-      const std::size_t end = std::min(n, (q + 1) * chunk);
-      for (std::size_t m = q * chunk; m < end; ++m)
-        std::fill(nl.first.begin() + nl.offsets[m], nl.first.begin() + nl.offsets[m + 1], nl.order[m]);
-    });
+    list_partners(grid, start, sorted_cell, sorted, box, nl);
     if (nl.keeps_history) carry_history(nl, previous, was, n);
     nl.domains = balanced_domains(nl.slabs, nl.offsets, domain_threads());
     nl.reference.assign(x.values.begin(), x.values.end());
