@@ -95,8 +95,8 @@ int main(int argc, char** argv) {
     }
     s.dt = dt;
     s.seed = seed;
-    s.cos_alpha = std::cos(130.0 * std::acos(-1.0) / 180.0);
-    s.sin_alpha = std::sin(130.0 * std::acos(-1.0) / 180.0);
+    s.rotation.cos_alpha = std::cos(130.0 * std::acos(-1.0) / 180.0);
+    s.rotation.sin_alpha = std::sin(130.0 * std::acos(-1.0) / 180.0);
     s.reorder_interval = reorder;
     std::vector<double> x(3 * n), v(3 * n);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {

@@ -86,11 +86,7 @@ struct Stream {
     const SrdDeviceSetup& s = k.setup;
     double* xi = x + D * i;
     double* vi = v + D * i;
-    srd::BodyForce<D> force;
-    for (int a = 0; a < D; ++a) force.acceleration[a] = s.acceleration[a];
-    force.slab_axis = s.slab_axis;
-    force.from = s.slab_from;
-    force.to = s.slab_to;
+    const srd::BodyForce<3>& force = s.force;  // its first D axes
     if (s.wall_count == 0 && !force.any()) {
       srd::stream_particle<D>(xi, vi, s.dt, s.length, k.step.shear);
     } else {
@@ -195,10 +191,7 @@ struct CellMatrix {
   double* clamped;  // per cell, summed afterwards
   GRANFLOW_HD void operator()(std::size_t c) const {
     const SrdDeviceSetup& s = k.setup;
-    srd::CellRotation<D> base;
-    base.cos_alpha = s.cos_alpha;
-    base.sin_alpha = s.sin_alpha;
-    base.rule = s.rule;
+    const srd::CellRotation<D> base(s.rotation);
     const double members = count[c] + (ghosts ? ghosts[c] : 0u);
     bool below_zero = false;
     double* matrix = matrices + D * D * c;

@@ -44,15 +44,12 @@ struct SrdDeviceSetup {
   unsigned bounded = 0;
   srd::Wall walls[6];
   int wall_count = 0;
-  double acceleration[3] = {0, 0, 0};
-  int slab_axis = -1;
-  double slab_from = 0.0, slab_to = 0.0;
+  srd::BodyForce<3> force;  // its first `dimension` axes
   double dt = 1.0;
   double particle_mass = 1.0;
   double ghost_fill = 0.0;
   std::uint64_t seed = 0;
-  double cos_alpha = 1.0, sin_alpha = 0.0;
-  srd::Dissipation rule = srd::Dissipation::rotated_plane;
+  srd::CellRotation<3> rotation;  // the angle and rule; each cell draws its own axis
   srd::GranularParameters granular;
   bool shear = false;            // Lees-Edwards planes along y
   bool record_moments = false;   // and the collisional transfer per cell

@@ -22,10 +22,7 @@ void add(Run& run, const SrdCells<D>& cells, std::size_t particles, const BodyFo
   DeviceStepParameters p;
   p.dt = c.real("srd.time_step");
   p.shear_rate = c.real("shear.rate");
-  for (int a = 0; a < D; ++a) p.force.acceleration[a] = force.acceleration[a];
-  p.force.slab_axis = force.slab_axis;
-  p.force.from = force.from;
-  p.force.to = force.to;
+  p.force = BodyForce<3>(force);
   p.rotation = rotation_from(c);
   p.grid_shift = c.boolean("srd.grid_shift");
   p.seed = run.seed();

@@ -69,22 +69,16 @@ class SrdDeviceStep : public SrdDeviceStepBase<D> {
       s.cells[a] = cells.cells[a];
       s.length[a] = cells.length[a];
       s.origin[a] = cells.origin[a];
-      s.acceleration[a] = p.force.acceleration[a];
     }
     s.bounded = cells.bounded;
     s.wall_count = static_cast<int>(cells.walls.size());
     for (int w = 0; w < s.wall_count; ++w) s.walls[w] = cells.walls[static_cast<std::size_t>(w)];
-    s.slab_axis = p.force.slab_axis;
-    s.slab_from = p.force.from;
-    s.slab_to = p.force.to;
+    s.force = p.force;
     s.dt = p.dt;
     s.particle_mass = cells.particle_mass;
     s.ghost_fill = cells.ghost_fill;
     s.seed = p.seed;
-    const CellRotation<D> base = rotation_base<D>(p.rotation);
-    s.cos_alpha = base.cos_alpha;
-    s.sin_alpha = base.sin_alpha;
-    s.rule = base.rule;
+    s.rotation = CellRotation<3>(rotation_base<D>(p.rotation));
     s.granular = granular_parameters(p.rotation);
     s.shear = D >= 2 && p.shear_rate != 0.0;
     s.record_moments = cells.record_moments && p.rotation.record_transfer;

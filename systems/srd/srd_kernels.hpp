@@ -146,6 +146,18 @@ struct CellRotation {
   double eps = 1.0;
   Dissipation rule = Dissipation::rotated_plane;
 
+  CellRotation() = default;
+  // The same operator in another dimension (the device step keeps the 3D
+  // one for both): its fields do not depend on the dimension, apply() does.
+  template <int E>
+  GRANFLOW_HD explicit CellRotation(const CellRotation<E>& other)
+      : cos_alpha(other.cos_alpha), sin_alpha(other.sin_alpha), eps(other.eps), rule(other.rule) {
+    for (int a = 0; a < 3; ++a) {
+      axis[a] = other.axis[a];
+      direction[a] = other.direction[a];
+    }
+  }
+
   // u: a thermal velocity (v - V of the cell), rotated in place.
   GRANFLOW_HD void apply(double* u) const {
     double w[D];

@@ -45,6 +45,15 @@ struct BodyForce {
   int slab_axis = -1;  // -1: everywhere
   double from = 0.0, to = 0.0;
 
+  BodyForce() = default;
+  // The same force in another dimension (the device step keeps the 3D one
+  // for both): the common axes, 0 along the others.
+  template <int E>
+  GRANFLOW_HD explicit BodyForce(const BodyForce<E>& other)
+      : slab_axis(other.slab_axis), from(other.from), to(other.to) {
+    for (int a = 0; a < D; ++a) acceleration[a] = a < E ? other.acceleration[a] : 0.0;
+  }
+
   GRANFLOW_HD bool any() const {
     for (int a = 0; a < D; ++a)
       if (acceleration[a] != 0.0) return true;
