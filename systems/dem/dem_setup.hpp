@@ -90,7 +90,9 @@ inline void declare_dem_keys(ConfigSchema& s, const DemDefaults& d) {
   wall.choice("axis", "z", {"x", "y", "z"}, "the axis the wall is perpendicular to")
       .real("position", 0.0, 0.0, inf, "its position along that axis (below the middle: spheres above it)")
       .real("stiffness", 0.0, 0.0, inf, "its contact stiffness (0: contact.stiffness)")
-      .real("restitution", 0.0, 0.0, 1.0, "its restitution (0: contact.restitution)")
+      .real("restitution", 0.0, 0.0, 1.0,
+            "its restitution (0: contact.restitution; as for pairs, e = 0 itself is no spring-dashpot: the spheres "
+            "would never leave the wall)")
       .real("amplitude", 0.0, 0.0, inf, "amplitude of its motion along its normal")
       .real("frequency", 0.0, 0.0, inf, "frequency of that motion")
       .choice("motion", "sine", {"sine", "wiggle"},
