@@ -56,8 +56,7 @@ class DemPositionVerlet : public DemPositionVerletBase<D> {
 
   void run_on(View view) override {
     auto& clock = view.template write<Clock>();
-    ++clock.step;
-    clock.time = static_cast<double>(clock.step) * dt_;
+    clock.advance(dt_);
     auto& x = view.template write<Position<D>>();
     auto& v = view.template write<Velocity<D>>();
     auto& previous = view.template write<PreviousPosition<D>>();

@@ -59,8 +59,7 @@ class DemKickDrift : public DemKickDriftBase<D> {
   std::string name() const override { return "dem_kick_drift"; }
   void run_on(View view) override {
     auto& clock = view.template write<Clock>();
-    ++clock.step;
-    clock.time = static_cast<double>(clock.step) * dt_;
+    clock.advance(dt_);
     auto& x = view.template write<Position<D>>();
     auto& v = view.template write<Velocity<D>>();
     const auto& f = view.template read<Force<D>>();

@@ -51,9 +51,7 @@ class SdeAdvance : public SystemOf<Reads<>, Writes<Position<D>, Velocity<D>, Clo
   void run_on(View view) override {
     auto& clock = view.template write<Clock>();
     step(view.template write<Position<D>>(), view.template write<Velocity<D>>(), clock.step);
-    ++clock.step;
-    // Steps are counted, not times summed, so output times land on steps exactly.
-    clock.time = static_cast<double>(clock.step) * dt_;
+    clock.advance(dt_);
   }
 
   void step(World& world, std::int64_t step_index) {

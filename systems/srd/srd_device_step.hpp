@@ -110,8 +110,7 @@ class SrdDeviceStep : public SrdDeviceStepBase<D> {
     }
     device::SrdDeviceStep in;
     in.start_time = clock.time;
-    ++clock.step;
-    clock.time = static_cast<double>(clock.step) * p_.dt;
+    clock.advance(p_.dt);
     in.step = static_cast<std::uint64_t>(clock.step);
     in.end_time = clock.time;
     SrdStreaming<D>::set_shear(cells, p_.shear_rate, clock.time);

@@ -68,8 +68,7 @@ class SrdStreaming : public SystemOf<Reads<>, Writes<Position<D>, Velocity<D>, I
     auto& clock = view.template write<Clock>();
     auto& cells = view.template write<SrdCells<D>>();
     const double start = clock.time;
-    ++clock.step;
-    clock.time = static_cast<double>(clock.step) * dt_;
+    clock.advance(dt_);
     set_shear(cells, shear_rate_, clock.time);
     double* x = view.template write<Position<D>>().data()->data();
     double* v = view.template write<Velocity<D>>().data()->data();
