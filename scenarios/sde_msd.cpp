@@ -28,6 +28,7 @@
 #include "systems/sde/sde_ensemble.hpp"
 #include "systems/sde/sde_frames.hpp"
 #include "systems/sde/sde_step.hpp"
+#include "systems/sde/sde_watchdog.hpp"
 
 namespace granflow::scenarios {
 
@@ -47,10 +48,6 @@ void build(Run& run) {
   const Config& c = run.config();
   const sde::SdeModel model = sde::sde_model_from(c);
   const auto s = sde::ensemble_stepping_from(c, model, D);
-  if (run.member() == 0 && model.gamma0 * s.dt > 0.5)
-    spdlog::warn("gamma0 * dt = {:.3g}: the step does not resolve the velocity relaxation time 1/gamma0; the MSD "
-                 "is only right at times of many steps",
-                 model.gamma0 * s.dt);
   const auto count = static_cast<std::size_t>(c.integer("system.count"));
   // Position, velocity and MSD origin per particle, for every run going at once.
   const auto at_once = std::min<std::size_t>(ensemble_members(c), tbb::this_task_arena::max_concurrency());
@@ -59,7 +56,10 @@ void build(Run& run) {
                      sde::sde_frame_bytes(c, s.output_steps.size()));
   run.initial_state([&](World& world) { sde::start_at_origin<D>(world, c, count, s, run.seed()); });
   run.step<sde::SdeAdvance<D>>(model, s.scheme, s.dt, run.seed());
-  run.keep("msd", run.observe<MsdObserver<D>>(std::make_shared<AtSteps>(s.output_steps), run.world()));
+  if (run.member() == 0) sde::warn_about_step(s, model);
+  const auto outputs = std::make_shared<AtSteps>(s.output_steps);
+  run.keep("msd", run.observe<MsdObserver<D>>(outputs, run.world()));
+  run.observe<sde::SdeWatch>(outputs, s.unstable_until, model.gamma0 * s.dt);
   sde::add_sde_frames<D>(run, s.output_steps);
   add_time_averaged_msd<D>(run, std::make_shared<EverySteps>(1), static_cast<std::uint64_t>(s.total_steps));
   run.stop_at_step(s.total_steps);

@@ -5,7 +5,7 @@ Usage: /usr/bin/python3 tools/plot.py OUT.h5 [MORE.h5 ...] [-o FIGURE.png]
        /usr/bin/python3 tools/plot.py SWEEP/summary.h5 [--x KEY] [--y NAME] [--logx]
 
 haff_cooling: T(t)/T0 on log-log axes with Haff's law T0/(1 + t/tau0)^2
-  (Haff 1983) and the ratio to Haff's law below it.
+  (Haff 1983) and the ratio to Haff's law below it; several files overlaid.
 speed_distribution: initial (delta) and equilibrium speed histograms with the
   Maxwell-Boltzmann density at the measured temperature.
 mixture: mean kinetic energy of all particles and of each species against
@@ -20,6 +20,12 @@ langevin_msd, udsbm_msd: ensemble MSD (standard error over runs) with the
   MSD against lag, the diffusivity and the ergodicity-breaking parameter.
 brownian_edmd: MSD of the event-driven gas with the Langevin / UDSBM theory
   (Enskog D0), time-averaged MSD, and the diffusivity against time.
+gsrd_cooling: temperature and convective energy with Haff's law, the density
+  fluctuation, the Sonine coefficient a2, the Mach number (several files
+  overlaid, e.g. one per restitution), the velocity distribution and a
+  density slice of the first file.
+Several files of one scenario are told apart in the legend by the
+  configuration keys whose values differ between them.
 sweep summaries: each summary observable (mean and standard error over
   repeats) against a swept key.
 """
@@ -53,38 +59,71 @@ def save(fig, output):
     print(f"wrote {output}")
 
 
+def configuration_of(f):
+    """Every configuration key of a result file ("section.key" -> value), the
+    derived quantities left out."""
+    keys = {}
+    for section, group in f["/parameters"].items():
+        if section == "derived" or not isinstance(group, h5py.Group):
+            continue
+        for name, value in group.attrs.items():
+            value = text(value) if isinstance(value, (bytes, str)) else np.asarray(value).tolist()
+            keys[f"{section}.{name}"] = value
+    return keys
+
+
+def overlay_labels(files):
+    """A legend label per file: the keys whose values differ between the
+    files (the file name where none does)."""
+    configurations = [configuration_of(f) for f in files]
+    names = sorted(set().union(*configurations))
+    differing = [k for k in names if len({repr(c.get(k)) for c in configurations}) > 1]
+    if not differing:
+        return [os.path.basename(f.filename) for f in files]
+    return [", ".join(f"{k} = {c.get(k)}" for k in differing) for c in configurations]
+
+
 def label_speed_axes(*axes):
     for ax in axes:
         ax.set_xlabel("speed v [L T-1]")
         ax.set_ylabel("probability density [T L-1]")
 
 
-def plot_haff(f, output):
-    time = f["/observables/temperature/time"][()]
-    temperature = f["/observables/temperature/value"][()]
-    derived = f["/parameters/derived"].attrs
-    tau0 = float(derived["haff_tau0"])
-    t0 = float(derived["initial_temperature"])
-    xi = float(f["/parameters/collision"].attrs["restitution"])
-    eta = float(derived["packing_fraction"])
-    n = int(f["/parameters/system"].attrs["count"])
-    dim = int(f["/parameters/system"].attrs["dimension"])
-
-    keep = time > 0
-    t, ratio = time[keep], temperature[keep] / t0
-    theory = 1.0 / (1.0 + t / tau0) ** 2
-
+def plot_haff(files, output):
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(6.4, 6.4), sharex=True,
                                       gridspec_kw={"height_ratios": [3, 1]})
-    top.loglog(t, ratio, "o", ms=3, label="granflow EDMD")
-    top.loglog(t, theory, "-", label=r"Haff: $(1 + t/\tau_0)^{-2}$")
-    top.loglog(t, (tau0 / t) ** 2, ":", color="grey", label=r"$(t/\tau_0)^{-2}$")
-    top.set_ylim(min(ratio.min(), theory.min()) / 2, 2)
+    labels = overlay_labels(files) if len(files) > 1 else ["granflow EDMD"]
+    lowest = 1.0
+    for k, (f, label) in enumerate(zip(files, labels)):
+        time = f["/observables/temperature/time"][()]
+        temperature = f["/observables/temperature/value"][()]
+        derived = f["/parameters/derived"].attrs
+        tau0 = float(derived["haff_tau0"])
+        t0 = float(derived["initial_temperature"])
+        keep = time > 0
+        t, ratio = time[keep], temperature[keep] / t0
+        theory = 1.0 / (1.0 + t / tau0) ** 2
+        colour = f"C{k}"
+        top.loglog(t, ratio, "o", ms=3, color=colour, label=label)
+        top.loglog(t, theory, "-", color=colour, lw=0.8,
+                   label=r"Haff: $(1 + t/\tau_0)^{-2}$" if k == 0 else None)
+        bottom.semilogx(t, ratio / theory, "o", ms=3, color=colour)
+        lowest = min(lowest, ratio.min(), theory.min())
+    f = files[0]
+    tau0 = float(f["/parameters/derived"].attrs["haff_tau0"])
+    top.loglog(t, (tau0 / t) ** 2, ":", color="grey", label=r"$(t/\tau_0)^{-2}$" + (" (first file)" if len(files) > 1 else ""))
+    top.set_ylim(lowest / 2, 2)
     top.set_ylabel(r"$T(t)/T_0$")
-    top.set_title(f"Haff cooling, {dim}D, N = {n}, $\\eta$ = {eta:.3f}, $\\xi$ = {xi:g}, "
-                  f"$\\tau_0$ = {tau0:.3g}", fontsize=10)
-    top.legend()
-    bottom.semilogx(t, ratio / theory, "o", ms=3)
+    n = int(f["/parameters/system"].attrs["count"])
+    dim = int(f["/parameters/system"].attrs["dimension"])
+    if len(files) == 1:
+        xi = float(f["/parameters/collision"].attrs["restitution"])
+        eta = float(f["/parameters/derived"].attrs["packing_fraction"])
+        top.set_title(f"Haff cooling, {dim}D, N = {n}, $\\eta$ = {eta:.3f}, $\\xi$ = {xi:g}, "
+                      f"$\\tau_0$ = {tau0:.3g}", fontsize=10)
+    else:
+        top.set_title(f"Haff cooling, {dim}D, {len(files)} runs", fontsize=10)
+    top.legend(fontsize=8)
     bottom.axhline(1.0, color="k", lw=0.8)
     bottom.set_ylabel("T / Haff")
     bottom.set_xlabel("t [T]")
@@ -381,34 +420,45 @@ def plot_srd_viscosity(files, output):
 
 
 def plot_gsrd_cooling(files, output):
-    f = files[0]
-    tau = float(f["/parameters/derived"].attrs["haff_tau"])
-    t, T = series(f, "granular_temperature")
-    _, E = series(f, "convective_kinetic_energy")
-    _, sigma = series(f, "density_std")
-    _, a2 = series(f, "sonine_a2")
-    _, mach = series(f, "mach_number")
-    T0 = T[0]
-    keep = t > 0
     fig, axes = plt.subplots(2, 3, figsize=(16, 8))
+    labels = overlay_labels(files) if len(files) > 1 else [None]
+    for k, (f, label) in enumerate(zip(files, labels)):
+        tau = float(f["/parameters/derived"].attrs["haff_tau"])
+        t, T = series(f, "granular_temperature")
+        _, E = series(f, "convective_kinetic_energy")
+        _, sigma = series(f, "density_std")
+        _, a2 = series(f, "sonine_a2")
+        _, mach = series(f, "mach_number")
+        T0 = T[0]
+        keep = t > 0
+        colour = f"C{k}"
+        ax = axes[0, 0]
+        single = len(files) == 1
+        ax.loglog(t[keep], T[keep] / T0, "o", ms=3, color=colour,
+                  label="granular temperature T / T0" if single else label)
+        ax.loglog(t[keep], E[keep] / T0, "s", ms=3, mfc="none", color=colour,
+                  label="convective energy E_kin / T0" if single else None)
+        ax.loglog(t[keep], 1 / (1 + t[keep] / tau) ** 2, "--", color="k" if single else colour, lw=0.8,
+                  label=f"Haff, mean-field $\\tau$ = {tau:.3g}" if single else None)
+        axes[0, 1].semilogx(t[keep], sigma[keep] / sigma[0], "o-", ms=3, color=colour, label=label)
+        axes[1, 0].semilogx(t[keep], a2[keep], "o-", ms=3, color=colour, label=label)
+        axes[1, 1].loglog(t[keep], mach[keep], "o-", ms=3, color=colour, label=label)
     ax = axes[0, 0]
-    ax.loglog(t[keep], T[keep] / T0, "o", ms=3, label="granular temperature T / T0")
-    ax.loglog(t[keep], E[keep] / T0, "s", ms=3, mfc="none", label="convective energy E_kin / T0")
-    ax.loglog(t[keep], 1 / (1 + t[keep] / tau) ** 2, "k--", label=f"Haff, mean-field $\\tau$ = {tau:.3g}")
     ax.set_xlabel("t [T]")
     ax.set_ylabel("energy / kT0")
     ax.legend(fontsize=8)
-    axes[0, 1].semilogx(t[keep], sigma[keep] / sigma[0], "o-", ms=3)
     axes[0, 1].set_xlabel("t [T]")
     axes[0, 1].set_ylabel(r"$\sigma(\rho) / \sigma_0$ (particles per cell)")
-    axes[1, 0].semilogx(t[keep], a2[keep], "o-", ms=3)
     axes[1, 0].axhline(0.0, color="k", lw=0.8)
     axes[1, 0].set_xlabel("t [T]")
     axes[1, 0].set_ylabel("Sonine coefficient a2")
-    axes[1, 1].loglog(t[keep], mach[keep], "o-", ms=3)
     axes[1, 1].axhline(1.0, color="k", lw=0.8)
     axes[1, 1].set_xlabel("t [T]")
     axes[1, 1].set_ylabel("global Mach number")
+    if len(files) > 1:
+        for ax in (axes[0, 1], axes[1, 0], axes[1, 1]):
+            ax.legend(fontsize=7)
+    f = files[0]
     dim = int(f["/parameters/system"].attrs["dimension"])
     ax = axes[0, 2]
     if "velocity_distribution" in f["/observables"]:
@@ -422,7 +472,7 @@ def plot_gsrd_cooling(files, output):
         x = c * c
         maxwell = 4 / np.sqrt(np.pi) * x * np.exp(-x) if dim == 3 else 2 * c * np.exp(-x)
         ax.semilogy(c, maxwell, "k-", lw=0.8, label="Maxwellian")
-        last_a2 = a2[-1]
+        last_a2 = series(f, "sonine_a2")[1][-1]
         sonine = maxwell * (1 + last_a2 * (x * x / 2 - (dim + 2) * x / 2 + dim * (dim + 2) / 8))
         ax.semilogy(c, np.clip(sonine, 1e-12, None), "r--", lw=0.8, label=f"Sonine, a2 = {last_a2:.3g} (last)")
         ax.set_ylim(max(1e-6, values[values > 0].min() / 2), 1.5)
@@ -433,7 +483,8 @@ def plot_gsrd_cooling(files, output):
         ax.set_visible(False)
     draw_density_slice(axes[1, 2], f)
     eps = float(f["/parameters/srd"].attrs["restitution"])
-    fig.suptitle(f"granular SRD cooling, $\\epsilon$ = {eps:g}")
+    fig.suptitle(f"granular SRD cooling, $\\epsilon$ = {eps:g}" if len(files) == 1 else
+                 f"granular SRD cooling, {len(files)} runs (distribution and slice: the first)")
     save(fig, output)
 
 
@@ -639,7 +690,7 @@ def plot_vibrated_bed(files, output):
     draw_bed(f, output, [""], title=f"vibrated bed, N = {n}, A = {amplitude:g}, f = {frequency:g}")
 
 
-PLOTTERS = {"haff_cooling": lambda files, output: plot_haff(files[0], output),
+PLOTTERS = {"haff_cooling": plot_haff,
             "speed_distribution": plot_speed_distribution,
             "mixture": plot_mixture,
             "scattering": plot_scattering,

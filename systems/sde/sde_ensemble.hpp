@@ -6,10 +6,12 @@
 // directions (as the hard-sphere gas starts).
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "components/position.hpp"
@@ -47,10 +49,14 @@ struct EnsembleStepping {
   std::vector<std::int64_t> output_steps;  // log-spaced output times rounded to whole steps, t = 0 left out
   Scheme scheme;
   double initial_velocity_variance;  // per component
+  // Euler-Maruyama past its stability limit: until when (0: it is not).
+  double unstable_until = 0.0;
 };
 
-// The stepping of `config`, refusing (ConfigError) what the scheme or the
-// theory curve cannot do.
+// The stepping of `config`, refusing (ConfigError) what the theory curve
+// cannot do. Euler-Maruyama past its stability limit is allowed (its
+// instability is a result worth showing); the run warns (warn_if_unstable)
+// and its watchdog stops it once the MSD overflows.
 inline EnsembleStepping ensemble_stepping_from(const Config& config, const SdeModel& model, int dimension) {
   EnsembleStepping s;
   s.dt = config.real("run.dt");
@@ -62,10 +68,7 @@ inline EnsembleStepping ensemble_stepping_from(const Config& config, const SdeMo
                                     static_cast<int>(config.integer("output.points_per_decade")), s.dt);
   s.output_steps.erase(s.output_steps.begin());  // the MSD is 0 at t = 0
   s.scheme = scheme_from(config);
-  if (s.scheme == Scheme::euler_maruyama && model.gamma0 * s.dt >= 2.0)
-    throw ConfigError(fmt::format("run.dt = {} with gamma0 = {:.4g}: Euler-Maruyama's velocity update diverges for "
-                                  "gamma0 * dt >= 2 (here {:.3g}); lower run.dt or use run.scheme = \"exact_ou\"",
-                                  s.dt, model.gamma0, model.gamma0 * s.dt));
+  if (s.scheme == Scheme::euler_maruyama) s.unstable_until = euler_maruyama_unstable_until(model, s.dt);
   if (model.scaled() && moment_msd_steps(model, t_stop) > 1e10)
     throw ConfigError(fmt::format("the UDSBM theory curve would need {:.3g} integration steps (gamma0 * tau0 = {:.3g}); "
                                   "lower gamma0 or tau0 (sde.* or gas.*) or run.t_stop",
@@ -75,6 +78,23 @@ inline EnsembleStepping ensemble_stepping_from(const Config& config, const SdeMo
                                     ? model.stationary_velocity_variance(0.0)
                                     : speed * speed / dimension;
   return s;
+}
+
+// The warnings of a step too long for the model: one that does not resolve
+// the velocity relaxation, and an Euler-Maruyama step past its stability limit.
+inline void warn_about_step(const EnsembleStepping& s, const SdeModel& model) {
+  if (model.gamma0 * s.dt > 0.5)
+    spdlog::warn("gamma0 * dt = {:.3g}: the step does not resolve the velocity relaxation time 1/gamma0; the MSD "
+                 "is only right at times of many steps",
+                 model.gamma0 * s.dt);
+  if (s.unstable_until <= 0.0) return;
+  const std::string until = std::isinf(s.unstable_until)
+                                ? std::string("at every step")
+                                : fmt::format("until t = {:.4g}, where gamma(t) dt falls below 2", s.unstable_until);
+  spdlog::warn("run.dt = {} with gamma0 = {:.4g}: gamma0 * dt = {:.3g} is past Euler-Maruyama's stability limit "
+               "gamma dt < 2, so velocities grow by |1 - gamma dt| >= 1 a step {}; run.scheme = \"exact_ou\" "
+               "has no such limit",
+               s.dt, model.gamma0, model.gamma0 * s.dt, until);
 }
 
 // `count` particles at the origin with velocities drawn as `config` says

@@ -34,6 +34,17 @@ struct SdeModel {
   }
 };
 
+// Euler-Maruyama's velocity update v <- (1 - gamma dt) v + noise amplifies
+// v wherever gamma(t) dt >= 2 (|1 - gamma dt| >= 1): the time until which
+// that holds, 0 where it never does, infinity where it always does
+// (Langevin). gamma(t) = gamma0 / (1 + t / tau0) falls below 2 / dt at
+// t = tau0 (gamma0 dt / 2 - 1).
+inline double euler_maruyama_unstable_until(const SdeModel& m, double dt) {
+  if (!(m.gamma0 * dt >= 2.0)) return 0.0;
+  if (!m.scaled()) return std::numeric_limits<double>::infinity();
+  return m.tau0 * (0.5 * m.gamma0 * dt - 1.0);
+}
+
 // Exact Ornstein-Uhlenbeck update of the velocity over [t, t + h]:
 // v <- decay * v + spread * N(0, 1), with decay = exp(-int gamma) and
 // spread^2 = int 2 D gamma^2 exp(-2 int_s gamma) ds.

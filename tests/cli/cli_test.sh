@@ -141,8 +141,6 @@ PY
 else
   echo "FAIL: /usr/bin/python3 with h5py is needed for the output checks"; failures=$((failures + 1))
 fi
-expect_error "Euler-Maruyama's velocity update diverges" run "$(dirname "$scenario")/langevin_msd.toml" \
-  --set run.scheme=euler_maruyama --set run.dt=0.5 -o "$work/x.h5"
 expect_error "and system.boundary = \"periodic\"" run "$(dirname "$scenario")/brownian_edmd.toml" \
   --set system.boundary=reflecting -o "$work/x.h5"
 expect_error "'system.dimension' = 4 is out of range" run "$(dirname "$scenario")/udsbm_msd.toml" \

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The time-stepped methods (soft spheres, SRD) when their input or their
+# The time-stepped methods (soft spheres, SRD, SDE) when their input or their
 # physics goes wrong: bad values stop with exit 2 and a message naming the
 # key, a blow-up stops with exit 3 and a diagnosis, and nothing hangs,
 # crashes or grows without bound. One check per class of failure.
@@ -113,6 +113,19 @@ expect_status 3 "met the walls more than 64 times in one step" run "$scenarios/g
 if ! "$granflow" info "$work/fail.h5md" 2>/dev/null | grep -q "stop_reason.*the SRD streaming failed"; then
   echo "FAIL: the result of a failed run is not marked with its stop reason"; failures=$((failures + 1))
 fi
+
+# Euler-Maruyama past its stability limit (gamma dt >= 2) is allowed, with a
+# warning naming the limit: Langevin's velocities then grow at every step
+# until the watchdog stops the run; UDSBM's friction falls below the limit
+# at t = tau0 (gamma0 dt / 2 - 1), and the run goes on to its end.
+sde=(-q --set run.scheme=euler_maruyama --set run.runs=1 --set system.count=50 --set sde.parameters=direct
+     --set sde.diffusivity0=1 -o "$work/sde.h5md")
+expect_status 3 "the mean squared displacement is" run "$scenarios/langevin_msd.toml" "${sde[@]}" \
+  --set sde.gamma0=5 --set run.dt=0.5 --set run.t_stop=2000
+expect_status 3 "past its stability limit gamma dt < 2 (gamma0 * dt = 2.5)" run "$scenarios/langevin_msd.toml" \
+  "${sde[@]}" --set sde.gamma0=5 --set run.dt=0.5 --set run.t_stop=2000
+expect_status 0 "until t = 10, where gamma(t) dt falls below 2" run "$scenarios/udsbm_msd.toml" "${sde[@]}" \
+  --set sde.gamma0=4 --set sde.tau0=10 --set run.dt=1 --set run.t_stop=1000
 
 echo "$failures failure(s)"
 [[ $failures -eq 0 ]]
