@@ -11,7 +11,7 @@ Layers, lowest first (docs/composing-scenarios.md):
   components             the particle columns and resources
   engine/io              H5MD, checkpoints, the particle schema, exports
   engine/run             Run, Runner, scenarios as the engine knows them
-  systems/geometry       what every method bins particles with
+  systems/geometry       the cell grid and the counting sort the methods share
   systems/initial        placement and initial velocities
   systems/edmd           the event-driven gas (and the preparations it runs)
   systems/sde, systems/observables
