@@ -442,6 +442,10 @@ def plot_gsrd_cooling(files, output):
                   label=f"Haff, mean-field $\\tau$ = {tau:.3g}" if single else None)
         axes[0, 1].semilogx(t[keep], sigma[keep] / sigma[0], "o-", ms=3, color=colour, label=label)
         axes[1, 0].semilogx(t[keep], a2[keep], "o-", ms=3, color=colour, label=label)
+        if "sonine_a2_hcs" in f["/observables"]:
+            t_hcs, a2_hcs = series(f, "sonine_a2_hcs")
+            axes[1, 0].semilogx(t_hcs[t_hcs > 0], a2_hcs[t_hcs > 0], "--", color=colour, lw=0.8,
+                                label=r"hard spheres of $\epsilon_{eff}$ (van Noije-Ernst)" if k == 0 else None)
         axes[1, 1].loglog(t[keep], mach[keep], "o-", ms=3, color=colour, label=label)
     ax = axes[0, 0]
     ax.set_xlabel("t [T]")
@@ -455,8 +459,8 @@ def plot_gsrd_cooling(files, output):
     axes[1, 1].axhline(1.0, color="k", lw=0.8)
     axes[1, 1].set_xlabel("t [T]")
     axes[1, 1].set_ylabel("global Mach number")
-    if len(files) > 1:
-        for ax in (axes[0, 1], axes[1, 0], axes[1, 1]):
+    for ax in (axes[0, 1], axes[1, 0], axes[1, 1]):
+        if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=7)
     f = files[0]
     dim = int(f["/parameters/system"].attrs["dimension"])

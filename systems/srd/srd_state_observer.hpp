@@ -23,6 +23,7 @@
 #include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "systems/srd/global_motion.hpp"
+#include "systems/srd/srd_cell_kernels.hpp"
 #include "systems/srd/srd_cells.hpp"
 
 namespace granflow::srd {
@@ -30,13 +31,26 @@ namespace granflow::srd {
 inline const SystemDescription observe_srd_state_description{
     "observe_srd_state", "temperature, granular temperature, convective energy, density fluctuations, Mach number, Sonine a2 and a3"};
 
+// The Sonine coefficient a2 of the homogeneous cooling state of inelastic
+// hard spheres (d = 3) or disks (d = 2) of restitution e, in the first
+// Sonine approximation (van Noije & Ernst 1998; Brilliantov & Poeschel 2004).
+inline double homogeneous_cooling_a2(double e, int d) {
+  return 16.0 * (1.0 - e) * (1.0 - 2.0 * e * e) / (9.0 + 24.0 * d - e * (41.0 - 8.0 * d) + 30.0 * e * e * (1.0 - e));
+}
+
 template <int D>
 class SrdStateObserver : public SystemOf<Reads<Clock, Velocity<D>, Mass, SrdCells<D>>, Writes<>> {
  public:
   using View = typename SystemOf<Reads<Clock, Velocity<D>, Mass, SrdCells<D>>, Writes<>>::View;
+  // Granular SRD also gets eps_eff at the mean density of the occupied cells
+  // and the granular temperature, and the a2 of hard spheres of that restitution.
+  explicit SrdStateObserver(const GranularParameters& granular = {}) : granular_(granular) {}
   std::string name() const override { return "observe_srd_state"; }
   Access access() const override {
-    return View::access()
+    Access access = View::access();
+    if (granular_.on)
+      access.writes_observable("effective_restitution", unit::none).writes_observable("sonine_a2_hcs", unit::none);
+    return access
         .writes_observable("temperature", unit::energy)
         .writes_observable("granular_temperature", unit::energy)
         .writes_observable("convective_kinetic_energy", unit::energy)
@@ -112,7 +126,19 @@ class SrdStateObserver : public SystemOf<Reads<Clock, Velocity<D>, Mass, SrdCell
     store.set("mach_number_local", weights > 0 ? weighted / weights : 0.0);
     store.set("sonine_a2", a2);
     store.set("sonine_a3", a3);
+    if (granular_.on) {
+      bool clamped = false;
+      const double density = occupied > 0 ? static_cast<double>(n) / occupied : 0.0;
+      // theta in energy units, as the cells hand it to the collision (cell_reduction.hpp).
+      const double eps = effective_restitution(granular_.restitution, granular_.diameter, density, granular,
+                                               granular_.dt, clamped);
+      store.set("effective_restitution", eps);
+      store.set("sonine_a2_hcs", homogeneous_cooling_a2(eps, D));
+    }
   }
+
+ private:
+  GranularParameters granular_;
 };
 
 }  // namespace granflow::srd

@@ -26,6 +26,7 @@
 #include "engine/run/run.hpp"
 #include "engine/run/run_control.hpp"
 #include "systems/srd/srd_cells.hpp"
+#include "systems/srd/srd_setup.hpp"
 #include "systems/srd/srd_state_observer.hpp"
 
 namespace granflow::srd {
@@ -91,7 +92,7 @@ class SrdEnergyWatch : public SystemOf<Reads<Clock>, Writes<RunControl>> {
 // The state observables at `when`, watched.
 template <int D>
 void observe_state(Run& run, const TriggerPtr& when) {
-  run.observe<SrdStateObserver<D>>(when);
+  run.observe<SrdStateObserver<D>>(when, granular_parameters(rotation_from(run.config())));
   run.observe<SrdStateWatch>(when);
 }
 

@@ -34,6 +34,7 @@
 #include "systems/initial/initial_velocities.hpp"
 #include "systems/observables/maxwell_boltzmann.hpp"
 #include "systems/srd/srd_setup.hpp"
+#include "systems/srd/srd_state_observer.hpp"
 #include "systems/srd/srd_theory.hpp"
 #include "tests/scenario_schema.hpp"
 #include "tests/scratch_directory.hpp"
@@ -182,6 +183,42 @@ TEST(GsrdCooling, HaffTimeMatchesTheMeanFieldTheory) {
   std::printf("tau = %.4f, T(%.3g)/T0 = %.3g: largest deviation of the measured Haff time %.2f %%\n", tau, t.back(),
               T.back() / T[0], 100 * worst);
   EXPECT_LT(worst, 0.04);
+}
+
+// The first Sonine approximation of the cooling state (van Noije & Ernst
+// 1998): 16 / (9 + 24 d) at e = 0, no correction at e = 1 and at e = 1/sqrt 2,
+// negative between them.
+TEST(GsrdCooling, HomogeneousCoolingA2OfTheFirstSonineApproximation) {
+  EXPECT_NEAR(srd::homogeneous_cooling_a2(0.0, 3), 16.0 / 81.0, 1e-15);
+  EXPECT_NEAR(srd::homogeneous_cooling_a2(0.0, 2), 16.0 / 57.0, 1e-15);
+  for (int d : {2, 3}) {
+    EXPECT_EQ(srd::homogeneous_cooling_a2(1.0, d), 0.0);
+    EXPECT_NEAR(srd::homogeneous_cooling_a2(std::sqrt(0.5), d), 0.0, 1e-15);
+    EXPECT_LT(srd::homogeneous_cooling_a2(0.9, d), 0.0);
+    EXPECT_GT(srd::homogeneous_cooling_a2(0.5, d), 0.0);
+  }
+}
+
+// eps_eff = 1 - (1 - eps^2) sigma^2 n0 sqrt(theta) dt at the granular
+// temperature the run measures, rising towards 1 as the gas cools; the
+// cooling-state a2 is that of hard spheres of this restitution.
+TEST(GsrdCooling, EffectiveRestitutionFollowsTheTemperature) {
+  const auto file = small_cooling(1000, "eps_eff");
+  const auto T = file.doubles("/observables/granular_temperature/value").values;
+  const auto eps = file.doubles("/observables/effective_restitution/value").values;
+  const auto a2 = file.doubles("/observables/sonine_a2_hcs/value").values;
+  ASSERT_EQ(eps.size(), T.size());
+  const double e = file.double_attribute("/parameters/srd", "restitution");
+  const double sigma = file.double_attribute("/parameters/srd", "diameter");
+  const double dt = file.double_attribute("/parameters/srd", "time_step");
+  const double n0 = file.double_attribute("/parameters/srd", "particles_per_cell");
+  for (std::size_t k = 0; k < T.size(); ++k) {
+    // Occupied cells hold n0 on average to within a percent while every cell is occupied.
+    EXPECT_NEAR(eps[k], 1.0 - (1.0 - e * e) * sigma * sigma * n0 * std::sqrt(T[k]) * dt,
+                0.01 * (1.0 - eps[k]) + 1e-12) << "output " << k;
+    EXPECT_EQ(a2[k], srd::homogeneous_cooling_a2(eps[k], 3));
+  }
+  EXPECT_GT(eps.back(), eps.front());
 }
 
 // The Maxwellian in c = |v| / sqrt(2T/m) times the Sonine correction
