@@ -111,6 +111,8 @@ def plot_haff(files, output):
         lowest = min(lowest, ratio.min(), theory.min())
     f = files[0]
     tau0 = float(f["/parameters/derived"].attrs["haff_tau0"])
+    t = f["/observables/temperature/time"][()]
+    t = t[t > 0]
     top.loglog(t, (tau0 / t) ** 2, ":", color="grey", label=r"$(t/\tau_0)^{-2}$" + (" (first file)" if len(files) > 1 else ""))
     top.set_ylim(lowest / 2, 2)
     top.set_ylabel(r"$T(t)/T_0$")
