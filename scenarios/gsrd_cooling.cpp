@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "engine/core/output_times.hpp"
+#include "engine/run/ensemble_keys.hpp"
+#include "engine/run/ensemble_series.hpp"
 #include "engine/run/run.hpp"
 #include "engine/run/scenario.hpp"
 #include "systems/srd/srd_fields.hpp"
@@ -25,6 +27,13 @@
 
 namespace granflow::scenarios {
 namespace {
+
+void describe_velocity_distribution(H5mdFile& file, std::size_t bins) {
+  const std::string group = "/observables/velocity_distribution";
+  file.write_attribute(group, "variable", "c = |v - <v>| / sqrt(2 T_g / m), T_g the granular temperature");
+  file.write_attribute(group, "c_max", srd::reduced_speed_max);
+  file.write_attribute(group, "bins", static_cast<double>(bins));
+}
 
 template <int D>
 void build(Run& run) {
@@ -43,12 +52,7 @@ void build(Run& run) {
   srd::observe_state<D>(run, outputs);
   const auto bins = static_cast<std::size_t>(c.integer("output.distribution_bins"));
   run.observe<srd::VelocityDistributionObserver<D>>(outputs, bins);
-  run.at_finish([bins](H5mdFile& file, const RunOutcome&) {
-    const std::string group = "/observables/velocity_distribution";
-    file.write_attribute(group, "variable", "c = |v - <v>| / sqrt(2 T_g / m), T_g the granular temperature");
-    file.write_attribute(group, "c_max", srd::reduced_speed_max);
-    file.write_attribute(group, "bins", static_cast<double>(bins));
-  });
+  run.at_finish([bins](H5mdFile& file, const RunOutcome&) { describe_velocity_distribution(file, bins); });
   run.at_finish([&run, tau](H5mdFile&, const RunOutcome&) {
     const double t = run.clock().time;
     spdlog::info("t = {:.4g} ({} steps): Haff's law predicts T/T0 = {:.4g}", t, run.clock().step,
@@ -77,9 +81,16 @@ GRANFLOW_REGISTER_SCENARIO(gsrd_cooling, Scenario{
     declare_frame_keys(s, "none");
     s.integer("output.points_per_decade", 20, 1, 1000, "outputs per decade of steps");
     s.integer("output.distribution_bins", 40, 2, 100000, "bins of velocity_distribution in c = |v - <v>| / v_T, over [0, 4)");
+    declare_ensemble_keys(s, 1);
   },
   .build = build_by_dimension<build<2>, build<3>>,
   .adopt = adopt_stored_state,
+  .members = ensemble_members,
+  .reduce = [](const EnsembleResults& results, H5mdFile& file) {
+    write_ensemble_series(results, file);
+    describe_velocity_distribution(file, static_cast<std::size_t>(results.config.integer("output.distribution_bins")));
+  },
+  .one_member_runs_plain = true,
 })
 
 }  // namespace granflow::scenarios

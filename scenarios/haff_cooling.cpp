@@ -8,6 +8,8 @@
 
 #include <cmath>
 
+#include "engine/run/ensemble_keys.hpp"
+#include "engine/run/ensemble_series.hpp"
 #include "engine/run/run.hpp"
 #include "engine/run/scenario.hpp"
 #include "scenarios/output_keys.hpp"
@@ -74,9 +76,13 @@ GRANFLOW_REGISTER_SCENARIO(haff_cooling, Scenario{
     declare_stored_start_keys(s);
     declare_output_time_keys(s, 0.01, 20);
     declare_frame_keys(s, "final", {"none", "final", "all"});
+    declare_ensemble_keys(s, 1);
   },
   .build = build_by_dimension<build<2>, build<3>>,
-  .adopt = adopt_stored_state,
+  .adopt = adopt_stored_state_as_one_run,
+  .members = ensemble_members,
+  .reduce = write_ensemble_series,
+  .one_member_runs_plain = true,
 })
 
 }  // namespace granflow::scenarios

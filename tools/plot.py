@@ -25,7 +25,8 @@ gsrd_cooling: temperature and convective energy with Haff's law, the density
   overlaid, e.g. one per restitution), the velocity distribution and a
   density slice of the first file.
 Several files of one scenario are told apart in the legend by the
-  configuration keys whose values differ between them.
+  configuration keys whose values differ between them. An ensemble's file
+  (run.runs > 1) is drawn as its mean with a band of two standard errors.
 sweep summaries: each summary observable (mean and standard error over
   repeats) against a swept key.
 """
@@ -104,6 +105,12 @@ def plot_haff(files, output):
         t, ratio = time[keep], temperature[keep] / t0
         theory = 1.0 / (1.0 + t / tau0) ** 2
         colour = f"C{k}"
+        if runs_of(f) > 1:
+            label = f"{label}, mean of {runs_of(f)} runs"
+            error = standard_error(f, "temperature")[keep] / t0
+            top.fill_between(t, ratio - 2 * error, ratio + 2 * error, color=colour, alpha=0.3, lw=0)
+            bottom.fill_between(t, (ratio - 2 * error) / theory, (ratio + 2 * error) / theory, color=colour,
+                                alpha=0.3, lw=0)
         top.loglog(t, ratio, "o", ms=3, color=colour, label=label)
         top.loglog(t, theory, "-", color=colour, lw=0.8,
                    label=r"Haff: $(1 + t/\tau_0)^{-2}$" if k == 0 else None)
@@ -331,6 +338,15 @@ def series(f, name):
     return f[f"/observables/{name}/time"][()], f[f"/observables/{name}/value"][()]
 
 
+def standard_error(f, name):
+    """The standard error of an ensemble's mean series (run.runs > 1), or None."""
+    return f[f"/observables/{name}_stderr/value"][()] if f"{name}_stderr" in f["/observables"] else None
+
+
+def runs_of(f):
+    return int(f["/observables"].attrs.get("runs", 1))
+
+
 def plot_msd(files, output):
     f = files[0]
     scenario = scenario_of(f)
@@ -436,8 +452,13 @@ def plot_gsrd_cooling(files, output):
         colour = f"C{k}"
         ax = axes[0, 0]
         single = len(files) == 1
+        if runs_of(f) > 1:
+            label = f"{label or ''}{', ' if label else ''}mean of {runs_of(f)} runs"
+            error = standard_error(f, "granular_temperature")
+            ax.fill_between(t[keep], (T[keep] - 2 * error[keep]) / T0, (T[keep] + 2 * error[keep]) / T0,
+                            color=colour, alpha=0.3, lw=0)
         ax.loglog(t[keep], T[keep] / T0, "o", ms=3, color=colour,
-                  label="granular temperature T / T0" if single else label)
+                  label="granular temperature T / T0" if single and runs_of(f) == 1 else label)
         ax.loglog(t[keep], E[keep] / T0, "s", ms=3, mfc="none", color=colour,
                   label="convective energy E_kin / T0" if single else None)
         ax.loglog(t[keep], 1 / (1 + t[keep] / tau) ** 2, "--", color="k" if single else colour, lw=0.8,

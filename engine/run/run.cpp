@@ -67,8 +67,10 @@ void Run::prepare() {
         store.declare(name);
         observables.push_back(name);
       }
-    if (file_)
-      for (const auto& [name, unit] : access.observable_units()) file_->declare_unit(name, unit);
+    for (const auto& [name, unit] : access.observable_units()) {
+      observable_units_[name] = unit;
+      if (file_) file_->declare_unit(name, unit);
+    }
   }
   recorder_ = &observers_.emplace<ObservableRecorder>(observables);
   if (!resume_) return;

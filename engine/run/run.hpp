@@ -68,6 +68,8 @@ class Run {
   void derive(const std::string& name, double value);
   double derived(const std::string& name) const;
   const std::vector<std::pair<std::string, double>>& derived_values() const { return derived_; }
+  // The H5MD unit of every observable its observers declare one for (after prepare()).
+  const std::map<std::string, std::string>& observable_units() const { return observable_units_; }
 
   // Registers an object whose state a checkpoint carries; when resuming it is
   // restored at once. The object must outlive the run.
@@ -158,6 +160,7 @@ class Run {
   std::vector<bool> enabled_;         // observers of the current round
   ObservableRecorder* recorder_ = nullptr;
   std::vector<std::pair<std::string, double>> derived_;
+  std::map<std::string, std::string> observable_units_;
   std::vector<std::pair<std::string, Stateful*>> kept_;
   double stop_time_ = std::numeric_limits<double>::infinity();
   std::int64_t stop_step_ = Trigger::no_step;

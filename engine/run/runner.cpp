@@ -223,6 +223,7 @@ EnsembleMember member_record(const Run& run, const RunOutcome& outcome) {
   EnsembleMember member;
   member.history = run.recorder().history();
   for (const auto& [name, value] : run.derived_values()) member.derived[name] = value;
+  member.units = run.observable_units();
   member.stop_reason = outcome.reason;
   return member;
 }
@@ -303,6 +304,10 @@ int ensemble_run(const Scenario& scenario, const Config& config, const RunOption
           if (value.size() == 1) member.derived[name] = value[0];
         if (const auto reason = contents.state.find(prefix + "/stop_reason"); reason != contents.state.end())
           member.stop_reason = decode_texts(reason->second).at(0);
+        if (const auto units = contents.state.find(prefix + "/units"); units != contents.state.end()) {
+          const auto pairs = decode_texts(units->second);
+          for (std::size_t k = 0; k + 1 < pairs.size(); k += 2) member.units[pairs[k]] = pairs[k + 1];
+        }
         finished[r] = std::move(member);
       } else {
         in_progress[r] = state_under(contents.state, prefix + "/run");
@@ -326,6 +331,9 @@ int ensemble_run(const Scenario& scenario, const Config& config, const RunOption
         put_state_under(state, prefix + "/history", save_history(finished[r]->history));
         for (const auto& [name, value] : finished[r]->derived) state[prefix + "/derived/" + name] = {value};
         state[prefix + "/stop_reason"] = encode_texts({finished[r]->stop_reason});
+        std::vector<std::string> units;
+        for (const auto& [name, unit] : finished[r]->units) units.insert(units.end(), {name, unit});
+        state[prefix + "/units"] = encode_texts(units);
       } else if (!in_progress[r].empty()) {
         put_state_under(state, prefix + "/run", in_progress[r]);
       }
@@ -419,7 +427,8 @@ int run_scenario(const Scenario& scenario, const Config& given, const RunOptions
   Config config = given;
   if (scenario.adopt) scenario.adopt(config);
   try {
-    return scenario.ensemble() ? ensemble_run(scenario, config, options) : single_run(scenario, config, options);
+    return scenario.runs_as_ensemble(config) ? ensemble_run(scenario, config, options)
+                                             : single_run(scenario, config, options);
   } catch (const H5Error& error) {
     // The usual cause of a failed write: say so where it is so.
     const std::string output = output_path_of(scenario, options);

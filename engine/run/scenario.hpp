@@ -28,6 +28,7 @@ class H5mdFile;
 struct EnsembleMember {
   ObservableHistory history;
   std::map<std::string, double> derived;
+  std::map<std::string, std::string> units;  // of the observables, where declared
   std::string stop_reason;  // why the run ended
 };
 struct EnsembleResults {
@@ -47,8 +48,15 @@ struct Scenario {
   // Ensembles only: how many independent runs, and what the result file gets from them.
   std::function<std::size_t(const Config&)> members;
   std::function<void(const EnsembleResults&, H5mdFile&)> reduce;
+  // An ensemble of one member is a plain run, its file the same as without
+  // run.runs (frames, end-of-run results); only several members are reduced.
+  bool one_member_runs_plain = false;
 
   bool ensemble() const { return static_cast<bool>(members); }
+  // Whether this configuration runs as an ensemble (else as one plain run).
+  bool runs_as_ensemble(const Config& config) const {
+    return ensemble() && !(one_member_runs_plain && members(config) == 1);
+  }
 };
 
 class ScenarioRegistry {

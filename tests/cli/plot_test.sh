@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # tools/plot.py draws one result file and overlays several of one scenario,
 # told apart in the legend by the keys whose values differ: two Haff
-# cooling runs and two granular SRD cooling runs at two restitutions.
+# cooling runs and two granular SRD cooling runs at two restitutions, and
+# ensembles of each (run.runs).
 # Skips (exit 77) where /usr/bin/python3 lacks h5py or matplotlib.
 set -u
 granflow="$1"
@@ -20,7 +21,10 @@ for xi in 0.9 0.7; do
   "$granflow" "${haff[@]}" --set collision.restitution=$xi -o "$work/haff_$xi.h5md" || fail "haff_cooling xi = $xi"
   "$granflow" "${gsrd[@]}" --set srd.restitution=$xi -o "$work/gsrd_$xi.h5md" || fail "gsrd_cooling eps = $xi"
 done
-for figure in "haff_0.9" "haff_0.9 haff_0.7" "gsrd_0.9 gsrd_0.7"; do
+# Ensembles (run.runs > 1) are drawn as a mean with an error band.
+"$granflow" "${haff[@]}" --set run.runs=3 -o "$work/haff_runs.h5md" || fail "haff_cooling run.runs = 3"
+"$granflow" "${gsrd[@]}" --set run.runs=2 -o "$work/gsrd_runs.h5md" || fail "gsrd_cooling run.runs = 2"
+for figure in "haff_0.9" "haff_0.9 haff_0.7" "gsrd_0.9 gsrd_0.7" "haff_runs haff_0.7" "gsrd_runs"; do
   files=()
   for name in $figure; do files+=("$work/$name.h5md"); done
   out="$work/${figure// /+}.png"
