@@ -31,6 +31,7 @@ sweep summaries: each summary observable (mean and standard error over
   repeats) against a swept key.
 """
 import argparse
+import glob
 import os
 import sys
 
@@ -284,8 +285,50 @@ def plot_crater(files, output):
     save(fig, output)
 
 
+def plot_granular_viscosity_sweep(files, output):
+    """Kinetic viscosity of sheared granular SRD against the rotation angle
+    (one summary per n0): measured, the granular theory and Kikuchi's at each
+    point's measured temperature, and the relative deviations from both."""
+    fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.6))
+    for k, f in enumerate(files):
+        summary = f["/summary"]
+        alpha = np.array([float(text(v)) for v in summary["srd.rotation_angle"][()]])
+        order = np.argsort(alpha)
+        alpha = alpha[order]
+        pick = lambda name: summary[name][()][order]
+        measured, error = pick("viscosity_kinetic_mean_mean"), np.nan_to_num(pick("viscosity_kinetic_mean_stderr"))
+        if "viscosity_kinetic_stderr_mean" in summary:
+            error = np.hypot(error, pick("viscosity_kinetic_stderr_mean"))  # the runs' own block errors
+        granular, elastic = pick("viscosity_granular_theory_mean"), pick("viscosity_elastic_theory_mean")
+        runs = sorted(glob.glob(os.path.join(os.path.dirname(f.filename), "p*_r*.h5md")))
+        n0 = f"file {k}"
+        if runs:
+            with h5py.File(runs[0], "r") as run:
+                n0 = int(run["/parameters/srd"].attrs["particles_per_cell"])
+        colour = f"C{k}"
+        left.errorbar(alpha, measured, yerr=error, fmt="o", color=colour, capsize=3, label=f"measured, n0 = {n0}")
+        left.plot(alpha, granular, "-", color=colour, lw=1, label="granular theory at the measured kT" if k == 0 else None)
+        left.plot(alpha, elastic, ":", color=colour, lw=1, label="Kikuchi et al. 2003 at that kT" if k == 0 else None)
+        right.errorbar(alpha, 100 * (measured - granular) / granular, yerr=100 * error / granular, fmt="o-",
+                       color=colour, capsize=3, label=f"from the granular theory, n0 = {n0}")
+        right.plot(alpha, 100 * (measured - elastic) / elastic, "s:", mfc="none", color=colour,
+                   label=f"from Kikuchi's, n0 = {n0}")
+    left.set_yscale("log")
+    left.set_xlabel(r"rotation angle $\alpha$ [deg]")
+    left.set_ylabel(r"kinetic viscosity $\nu_{kin}$ [L2 T-1]")
+    left.legend(fontsize=8)
+    right.axhline(0.0, color="k", lw=0.8)
+    right.set_xlabel(r"rotation angle $\alpha$ [deg]")
+    right.set_ylabel("relative deviation [%]")
+    right.legend(fontsize=8)
+    fig.suptitle("granular SRD under shear, 2D, no thermostat (heating = dissipation)", fontsize=11)
+    save(fig, output)
+
+
 def plot_sweep(files, output, x_key=None, y_names=None, logx=False):
     f = files[0]
+    if "viscosity_granular_theory_mean" in f["/summary"] and x_key is None and not y_names:
+        return plot_granular_viscosity_sweep(files, output)
     swept = [text(k) for k in f["/parameters/swept_keys"][()]]
     summary = f["/summary"]
     x_key = x_key or swept[0]
@@ -410,31 +453,86 @@ def draw_density_slice(ax, f):
 
 def plot_srd_viscosity(files, output):
     f = files[0]
+    obs = f["/observables"]
     derived = f["/parameters/derived"].attrs
     has_fields = "fields" in f and "density" in f["/fields"]
-    fig, axes = plt.subplots(1, 3 if has_fields else 2, figsize=(16 if has_fields else 11, 4.4))
-    left, right = axes[0], axes[1]
+    has_band = "band_contrast" in obs
+    granular = "viscosity_granular_theory" in obs.attrs and float(f["/parameters/srd"].attrs["restitution"]) < 1
+    columns = 2 + has_fields
+    fig, axes = plt.subplots(2 if has_band else 1, columns, figsize=(5.5 * columns, 8.8 if has_band else 4.4),
+                             squeeze=False)
+    left, right = axes[0, 0], axes[0, 1]
     if has_fields:
-        draw_density_slice(axes[2], f)
+        draw_density_slice(axes[0, 2], f)
     for name, colour in (("viscosity_kinetic", "C0"), ("viscosity_collisional", "C1")):
         t, nu = series(f, name)
         left.plot(t, nu, "-", color=colour, label=name.replace("_", " ") + " (running mean)")
-        left.axhline(float(derived[name + "_theory"]), color=colour, ls="--", label="Kikuchi et al. 2003")
+        if name == "viscosity_kinetic" and granular:
+            # The fluid heats or cools to its steady temperature: theory at the one measured.
+            left.axhline(float(obs.attrs["viscosity_granular_theory"]), color=colour, ls="--",
+                         label=f"granular theory at measured kT_yy = {float(obs.attrs['temperature_yy_mean']):.3g}")
+            left.axhline(float(obs.attrs["viscosity_elastic_theory"]), color=colour, ls=":",
+                         label="Kikuchi et al. 2003 at that kT")
+        else:
+            left.axhline(float(derived[name + "_theory"]), color=colour, ls="--", label="Kikuchi et al. 2003")
     left.set_xlabel("t [T]")
     left.set_ylabel("kinematic viscosity [L2 T-1]")
     alpha = float(f["/parameters/srd"].attrs["rotation_angle"])
     dim = int(f["/parameters/system"].attrs["dimension"])
-    left.set_title(f"SRD {dim}D, $\\alpha$ = {alpha:g} deg, n0 = {int(f['/parameters/srd'].attrs['particles_per_cell'])}",
-                   fontsize=10)
+    title = f"SRD {dim}D, $\\alpha$ = {alpha:g} deg, n0 = {int(f['/parameters/srd'].attrs['particles_per_cell'])}"
+    if granular and "effective_restitution_mean" in obs.attrs:
+        title += f", $\\epsilon_{{eff}}$ = {float(obs.attrs['effective_restitution_mean']):.4f}"
+    left.set_title(title, fontsize=10)
     left.legend(fontsize=7)
     t, T = series(f, "temperature")
     right.plot(t, T, "-", label="temperature (about the cells' means)")
+    if "temperature_steady_theory" in derived:
+        right.axhline(float(derived["temperature_steady_theory"]), color="C0", ls="--",
+                      label="heating = dissipation (theory)")
     t, rate = series(f, "shear_rate_measured")
     right.plot(t, rate / float(f["/parameters/shear"].attrs["rate"]), "-", label="measured / imposed shear rate")
     right.set_xlabel("t [T]")
     right.set_ylabel("kT [M L2 T-2]; shear-rate ratio")
+    if granular:
+        right.set_yscale("log")
     right.legend(fontsize=8)
+    if has_band:
+        draw_shear_band(axes[1], f)
     save(fig, output)
+
+
+def draw_shear_band(axes, f):
+    """Density, velocity and temperature across the gradient (y) at a few
+    times, and the band's width and contrast against time."""
+    obs = f["/observables"]
+    times = obs["density_profile/time"][()]
+    density = obs["density_profile/value"][()]
+    velocity = obs["velocity_profile/value"][()]
+    temperature = obs["temperature_profile/value"][()]
+    y = np.arange(density.shape[1]) + 0.5
+    profiles, history = axes[0], axes[1]
+    picks = sorted(set(np.linspace(0, len(times) - 1, 4).astype(int)))
+    twin = profiles.twinx()
+    for k, row in enumerate(picks):
+        profiles.plot(y, density[row], "-", color=f"C{k}", label=f"density, t = {times[row]:.3g}")
+        twin.plot(y, temperature[row], ":", color=f"C{k}")
+    profiles.set_xlabel("y [cells]")
+    profiles.set_ylabel("particles per cell (solid)")
+    twin.set_ylabel("kT of the layer (dotted)")
+    twin.set_yscale("log")
+    profiles.legend(fontsize=7)
+    history.semilogy(obs["band_contrast/time"][()], obs["band_contrast/value"][()], "o-", ms=3,
+                     label="contrast: densest / thinnest layer")
+    history.semilogy(obs["band_width/time"][()], obs["band_width/value"][()], "s-", ms=3,
+                     label="width: layers above half the peak over the median [cells]")
+    history.set_xlabel("t [T]")
+    history.legend(fontsize=7)
+    if len(axes) > 2:
+        last = axes[2]
+        last.plot(y, velocity[-1], "o-", ms=3, label=f"$v_x$, t = {times[-1]:.3g}")
+        last.set_xlabel("y [cells]")
+        last.set_ylabel("v_x [L T-1]")
+        last.legend(fontsize=7)
 
 
 def plot_gsrd_cooling(files, output):

@@ -17,6 +17,7 @@
 
 #include <cmath>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "components/clock.hpp"
@@ -108,6 +109,22 @@ class ShearStress : public Stateful {
       out.collisional_error = std::sqrt(std::max(0.0, (scc / nb - (sc / nb) * (sc / nb)) / (nb - 1)));
     }
     return out;
+  }
+
+  // kT_yy = <m v_y^2> over the sampled steps (the temperature the streaming
+  // term of the viscosity carries), with its standard error from the blocks.
+  std::pair<double, double> temperature_yy() const {
+    if (samples_ == 0) return {std::nan(""), std::nan("")};
+    const double mean = total_[2] / static_cast<double>(samples_);
+    const std::size_t b = blocks_.size() / 5;
+    if (b < 2) return {mean, std::nan("")};
+    double s = 0, ss = 0;
+    for (std::size_t k = 0; k < b; ++k) {
+      s += blocks_[5 * k + 2];
+      ss += blocks_[5 * k + 2] * blocks_[5 * k + 2];
+    }
+    const double nb = static_cast<double>(b);
+    return {mean, std::sqrt(std::max(0.0, (ss / nb - (s / nb) * (s / nb)) / (nb - 1)))};
   }
 
   StateMap save_state() const override {

@@ -31,6 +31,7 @@
 #include "engine/core/world.hpp"
 #include "engine/io/h5md_file.hpp"
 #include "engine/run/run.hpp"
+#include "systems/srd/shear_band.hpp"
 #include "systems/srd/srd_cells.hpp"
 #include "systems/srd/srd_step_sums.hpp"
 
@@ -163,12 +164,15 @@ class SrdProfileSampler : public SrdProfileSamplerBase<D> {
 template <int D>
 class SrdProfileObserver : public SystemOf<Reads<>, Writes<ProfileSums>> {
  public:
-  SrdProfileObserver(double layer_volume, double mass, std::shared_ptr<ProfileSums> sums)
-      : layer_volume_(layer_volume), mass_(mass), sums_(std::move(sums)) {}
+  // band: also band_width and band_contrast of each density profile (shear_band.hpp).
+  SrdProfileObserver(double layer_volume, double mass, std::shared_ptr<ProfileSums> sums, bool band = false)
+      : layer_volume_(layer_volume), mass_(mass), sums_(std::move(sums)), band_(band) {}
 
   std::string name() const override { return "observe_srd_profiles"; }
   Access access() const override {
-    return View::access()
+    Access access = View::access();
+    if (band_) access.writes_observable("band_width", unit::length).writes_observable("band_contrast", unit::none);
+    return access
         .writes_observable("velocity_profile", unit::velocity)
         .writes_observable("density_profile", "L-" + std::to_string(D))
         .writes_observable("temperature_profile", unit::energy);
@@ -177,6 +181,11 @@ class SrdProfileObserver : public SystemOf<Reads<>, Writes<ProfileSums>> {
   void run_on(View view) override {
     auto profiles = sums_->take_block(layer_volume_, mass_);
     auto& store = view.observables();
+    if (band_) {
+      const ShearBand band = shear_band(profiles.density);
+      store.set("band_width", band.width);
+      store.set("band_contrast", band.contrast);
+    }
     store.set("velocity_profile", std::move(profiles.velocity));
     store.set("density_profile", std::move(profiles.density));
     store.set("temperature_profile", std::move(profiles.temperature));
@@ -185,6 +194,7 @@ class SrdProfileObserver : public SystemOf<Reads<>, Writes<ProfileSums>> {
  private:
   double layer_volume_, mass_;
   std::shared_ptr<ProfileSums> sums_;
+  bool band_;
 };
 
 // The layer volume of the profiles across `axis` of a box of `cells`.
@@ -198,15 +208,17 @@ double layer_volume(const std::array<std::int32_t, D>& cells, int axis) {
 
 // The profiles across `axis` of a box of `cells`: sampled every step after
 // `warmup_steps`, written every `every_steps` after it; the sums (kept in
-// checkpoints as "profiles") hold the average since the warm-up.
+// checkpoints as "profiles") hold the average since the warm-up. `flow`:
+// the velocity component profiled; `band`: the shear-band measures too.
 template <int D>
 std::shared_ptr<ProfileSums> add_layer_profiles(Run& run, const std::array<std::int32_t, D>& cells, int axis,
-                                                std::int64_t warmup_steps, std::int64_t every_steps) {
+                                                std::int64_t warmup_steps, std::int64_t every_steps, int flow = 0,
+                                                bool band = false) {
   auto sums = std::make_shared<ProfileSums>(cells[axis], D);
   run.keep("profiles", *sums);
-  run.observe<SrdProfileSampler<D>>(std::make_shared<EverySteps>(1, warmup_steps + 1), axis, 0, sums);
+  run.observe<SrdProfileSampler<D>>(std::make_shared<EverySteps>(1, warmup_steps + 1), axis, flow, sums);
   run.observe<SrdProfileObserver<D>>(std::make_shared<EverySteps>(every_steps, warmup_steps + every_steps),
-                                     layer_volume<D>(cells, axis), 1.0, sums);
+                                     layer_volume<D>(cells, axis), 1.0, sums, band);
   return sums;
 }
 
