@@ -17,6 +17,8 @@
 #include "engine/run/ensemble_series.hpp"
 #include "engine/run/run.hpp"
 #include "engine/run/scenario.hpp"
+#include "systems/srd/clustering.hpp"
+#include "systems/srd/cooling_exponent.hpp"
 #include "systems/srd/srd_fields.hpp"
 #include "systems/srd/srd_frames.hpp"
 #include "systems/srd/srd_setup.hpp"
@@ -33,6 +35,32 @@ void describe_velocity_distribution(H5mdFile& file, std::size_t bins) {
   file.write_attribute(group, "variable", "c = |v - <v>| / sqrt(2 T_g / m), T_g the granular temperature");
   file.write_attribute(group, "c_max", srd::reduced_speed_max);
   file.write_attribute(group, "bins", static_cast<double>(bins));
+}
+
+// The cooling exponent after the transition (systems/srd/cooling_exponent.hpp)
+// of the thermal temperature, as attributes of /observables.
+void write_cooling_exponent(H5mdFile& file, const std::vector<double>& time, const std::vector<double>& temperature,
+                            const std::vector<double>& mach) {
+  const auto fit = srd::cooling_after_transition(time, temperature, mach);
+  file.write_attribute("/observables", "transition_time", fit.transition_time);
+  file.write_attribute("/observables", "cooling_exponent", fit.exponent);
+  file.write_attribute("/observables", "cooling_exponent_stderr", fit.exponent_error);
+  if (std::isnan(fit.transition_time))
+    spdlog::info("the global Mach number stayed below 1: no transition to inhomogeneous cooling, no exponent fitted");
+  else
+    spdlog::info("Mach number 1 at t = {:.4g}; after it T ~ t^{:.3f} (+- {:.2g}, {} outputs)", fit.transition_time,
+                 fit.exponent, fit.exponent_error, fit.points);
+}
+
+std::vector<double> values_of(const std::vector<ObservableSample>& samples) {
+  std::vector<double> out;
+  for (const auto& sample : samples) out.push_back(sample.value.at(0));
+  return out;
+}
+std::vector<double> times_of(const std::vector<ObservableSample>& samples) {
+  std::vector<double> out;
+  for (const auto& sample : samples) out.push_back(sample.time);
+  return out;
 }
 
 template <int D>
@@ -52,7 +80,13 @@ void build(Run& run) {
   srd::observe_state<D>(run, outputs);
   const auto bins = static_cast<std::size_t>(c.integer("output.distribution_bins"));
   run.observe<srd::VelocityDistributionObserver<D>>(outputs, bins);
+  run.observe<srd::ClusteringObserver<D>>(outputs, srd::cells_from<D>(c), n0, c.real("clusters.threshold"));
   run.at_finish([bins](H5mdFile& file, const RunOutcome&) { describe_velocity_distribution(file, bins); });
+  run.at_finish([&run](H5mdFile& file, const RunOutcome&) {
+    const auto& history = run.recorder().history();
+    write_cooling_exponent(file, times_of(history.at("temperature")), values_of(history.at("temperature")),
+                           values_of(history.at("mach_number")));
+  });
   run.at_finish([&run, tau](H5mdFile&, const RunOutcome&) {
     const double t = run.clock().time;
     spdlog::info("t = {:.4g} ({} steps): Haff's law predicts T/T0 = {:.4g}", t, run.clock().step,
@@ -81,6 +115,7 @@ GRANFLOW_REGISTER_SCENARIO(gsrd_cooling, Scenario{
     declare_frame_keys(s, "none");
     s.integer("output.points_per_decade", 20, 1, 1000, "outputs per decade of steps");
     s.integer("output.distribution_bins", 40, 2, 100000, "bins of velocity_distribution in c = |v - <v>| / v_T, over [0, 4)");
+    s.real("clusters.threshold", 2.0, 0.0, 1e9, "a cell belongs to a cluster above this many times n0 particles");
     declare_ensemble_keys(s, 1);
   },
   .build = build_by_dimension<build<2>, build<3>>,
@@ -89,6 +124,16 @@ GRANFLOW_REGISTER_SCENARIO(gsrd_cooling, Scenario{
   .reduce = [](const EnsembleResults& results, H5mdFile& file) {
     write_ensemble_series(results, file);
     describe_velocity_distribution(file, static_cast<std::size_t>(results.config.integer("output.distribution_bins")));
+    const auto& first = results.members.front().history;
+    std::vector<double> temperature, mach;
+    const std::size_t count = std::min(common_samples(results, "temperature"), common_samples(results, "mach_number"));
+    for (std::size_t k = 0; k < count; ++k) {
+      temperature.push_back(mean_and_standard_error(member_values(results, "temperature", k)).mean);
+      mach.push_back(mean_and_standard_error(member_values(results, "mach_number", k)).mean);
+    }
+    std::vector<double> time = times_of(first.at("temperature"));
+    time.resize(count);
+    write_cooling_exponent(file, time, temperature, mach);
   },
   .one_member_runs_plain = true,
 })

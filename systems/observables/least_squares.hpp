@@ -3,6 +3,7 @@
 // parabola. The line keeps its five running sums so that a caller can fit
 // points as it visits them, without storing them.
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -19,6 +20,7 @@ class LineFit {
     sy_ += weight * y;
     sxx_ += weight * x * x;
     sxy_ += weight * x * y;
+    syy_ += weight * y * y;
     ++points_;
   }
   std::size_t points() const { return points_; }
@@ -30,9 +32,17 @@ class LineFit {
     return det > 0 ? (sw_ * sxy_ - sx_ * sy_) / det : std::nan("");
   }
   double intercept() const { return (sy_ - slope() * sx_) / sw_; }
+  // The slope's standard error from the scatter about the line, for unit
+  // weights (nan with fewer than three points). Where the points are not
+  // independent (a smooth series) it measures the fit, not a statistical error.
+  double slope_standard_error() const {
+    if (points_ < 3 || !(determinant() > 0)) return std::nan("");
+    const double residual = std::max(0.0, syy_ - intercept() * sy_ - slope() * sxy_) / (static_cast<double>(points_) - 2.0);
+    return std::sqrt(residual * sw_ / determinant());
+  }
 
  private:
-  double sw_ = 0, sx_ = 0, sy_ = 0, sxx_ = 0, sxy_ = 0;
+  double sw_ = 0, sx_ = 0, sy_ = 0, sxx_ = 0, sxy_ = 0, syy_ = 0;
   std::size_t points_ = 0;
 };
 

@@ -38,6 +38,45 @@ TEST(LineFit, HasNoSlopeWithoutTwoDistinctAbscissae) {
   EXPECT_TRUE(std::isnan(fit.slope()));
 }
 
+// The slope's standard error against its textbook form
+// s / sqrt(sum (x - mean x)^2), s^2 the residual variance over n - 2, and
+// against the scatter of slopes fitted to many noisy lines (within 5 %).
+TEST(LineFit, SlopeStandardErrorIsTheScatterOfFittedSlopes) {
+  std::mt19937_64 engine(7);
+  std::normal_distribution<double> noise(0.0, 0.4);
+  std::vector<double> x;
+  for (int k = 0; k < 20; ++k) x.push_back(0.5 * k);
+  double mean_x = 0.0;
+  for (double v : x) mean_x += v / x.size();
+  double sxx = 0.0;
+  for (double v : x) sxx += (v - mean_x) * (v - mean_x);
+  double sum = 0.0, squares = 0.0, errors = 0.0;
+  const int fits = 4000;
+  for (int f = 0; f < fits; ++f) {
+    LineFit fit;
+    std::vector<double> y;
+    for (double v : x) y.push_back(1.0 + 0.7 * v + noise(engine));
+    for (std::size_t k = 0; k < x.size(); ++k) fit.add(x[k], y[k]);
+    if (f == 0) {
+      double residual = 0.0;
+      for (std::size_t k = 0; k < x.size(); ++k) {
+        const double r = y[k] - fit.intercept() - fit.slope() * x[k];
+        residual += r * r;
+      }
+      EXPECT_NEAR(fit.slope_standard_error(), std::sqrt(residual / (x.size() - 2.0) / sxx), 1e-12);
+    }
+    sum += fit.slope();
+    squares += fit.slope() * fit.slope();
+    errors += fit.slope_standard_error() / fits;
+  }
+  const double scatter = std::sqrt(squares / fits - (sum / fits) * (sum / fits));
+  EXPECT_NEAR(errors / scatter, 1.0, 0.05);
+  LineFit two;
+  two.add(0.0, 1.0);
+  two.add(1.0, 2.0);
+  EXPECT_TRUE(std::isnan(two.slope_standard_error()));
+}
+
 TEST(FitParabola, RecoversAnExactParabola) {
   std::vector<double> x, y;
   for (int k = 0; k < 20; ++k) {
