@@ -536,7 +536,10 @@ def draw_shear_band(axes, f):
 
 
 def plot_gsrd_cooling(files, output):
-    fig, axes = plt.subplots(2, 3, figsize=(16, 8))
+    clustering = "correlation_length" in files[0]["/observables"]
+    has_fields = "fields" in files[0] and "temperature" in files[0]["/fields"]
+    rows = 2 + clustering + (clustering and has_fields)
+    fig, axes = plt.subplots(rows, 3, figsize=(16, 4 * rows))
     labels = overlay_labels(files) if len(files) > 1 else [None]
     for k, (f, label) in enumerate(zip(files, labels)):
         tau = float(f["/parameters/derived"].attrs["haff_tau"])
@@ -607,10 +610,88 @@ def plot_gsrd_cooling(files, output):
     else:
         ax.set_visible(False)
     draw_density_slice(axes[1, 2], f)
+    if clustering:
+        draw_clustering(axes[2], files, labels)
+    if clustering and has_fields:
+        draw_local_fields(axes[3], f)
     eps = float(f["/parameters/srd"].attrs["restitution"])
     fig.suptitle(f"granular SRD cooling, $\\epsilon$ = {eps:g}" if len(files) == 1 else
                  f"granular SRD cooling, {len(files)} runs (distribution and slice: the first)")
     save(fig, output)
+
+
+def draw_clustering(axes, files, labels):
+    """S(k) at a few times (the first file), the correlation length and the
+    largest cluster against time, and sigma(rho)^2 against the global Mach
+    number (every file: Fig. 4.1 of the granular SRD study overlays three dt)."""
+    f = files[0]
+    obs = f["/observables"]
+    times = obs["structure_factor/time"][()]
+    values = obs["structure_factor/value"][()]
+    k = obs["structure_factor_k/value"][()][-1]
+    for n, row in enumerate(sorted(set(np.geomspace(1, len(times) - 1, 5).astype(int)))):
+        axes[0].loglog(k, values[row], "o-", ms=3, color=plt.cm.viridis(n / 4), label=f"t = {times[row]:.3g}")
+    axes[0].axhline(1.0, color="k", lw=0.8, ls=":", label="ideal gas")
+    axes[0].set_xlabel("k [L-1]")
+    axes[0].set_ylabel("structure factor S(k)")
+    axes[0].legend(fontsize=7)
+    mach_axis = axes[1].twinx()
+    for n, (g, label) in enumerate(zip(files, labels)):
+        colour = f"C{n}"
+        t, length = series(g, "correlation_length")
+        keep = t > 0
+        axes[1].loglog(t[keep], length[keep], "o-", ms=3, color=colour, label=f"L(t) {label or ''}".strip())
+        t_m, mach = series(g, "mach_number")
+        mach_axis.loglog(t_m[t_m > 0], mach[t_m > 0], ":", color=colour)
+        transition = g["/observables"].attrs.get("transition_time", np.nan)
+        if np.isfinite(transition):
+            axes[1].axvline(transition, color=colour, lw=0.8, ls="--")
+        _, sigma = series(g, "density_std")
+        _, mach_all = series(g, "mach_number")
+        axes[2].loglog(mach_all[1:], sigma[1:] ** 2, "o-", ms=3, color=colour,
+                       label=f"dt = {float(g['/parameters/srd'].attrs['time_step']):g}" + (f", {label}" if label else ""))
+    mach_axis.axhline(1.0, color="grey", lw=0.8)
+    mach_axis.set_ylabel("global Mach number (dotted)")
+    axes[1].set_xlabel("t [T]")
+    axes[1].set_ylabel("correlation length L = 2 pi <k>^-1 [cells]")
+    exponent = obs.attrs.get("cooling_exponent", np.nan)
+    if np.isfinite(exponent):
+        axes[1].set_title(f"after M = 1 (dashed): T ~ t^{exponent:.2f}", fontsize=9)
+    axes[1].legend(fontsize=7)
+    m = np.geomspace(0.3, 10, 50)
+    _, mach_first = series(f, "mach_number")
+    _, sigma_first = series(f, "density_std")
+    nearest = np.argmin(np.abs(np.log(np.maximum(mach_first[1:], 1e-12))))
+    reference = sigma_first[1:][nearest] ** 2 / mach_first[1:][nearest] ** 2
+    axes[2].loglog(m, reference * m ** 2, "k-", lw=0.8, label=r"$\propto M^2$")
+    axes[2].loglog(m, reference * m ** 3, "k:", lw=0.8, label=r"$\propto M^3$")
+    axes[2].axvline(1.0, color="grey", lw=0.8)
+    axes[2].set_xlabel("global Mach number M")
+    axes[2].set_ylabel(r"$\sigma(\rho)^2$ [particles per cell]$^2$")
+    axes[2].legend(fontsize=7)
+
+
+def draw_local_fields(axes, f):
+    """The last fields in the plane z = L_z/2 (3D): temperature, local Mach
+    number |V| / sqrt(kT/m) and the largest clusters' density (Fig. 3.10)."""
+    fields = f["/fields"]
+    density, temperature, velocity = (fields[name]["value"][-1] for name in ("density", "temperature", "velocity"))
+    t = fields["temperature"]["time"][-1]
+    middle = lambda a: a[a.shape[0] // 2] if density.ndim == 3 else a
+    speed = np.linalg.norm(velocity, axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mach = np.where(temperature > 0, speed / np.sqrt(temperature), np.nan)
+    for ax, value, name, log in ((axes[0], temperature, "kT", True), (axes[1], mach, "local Mach number", True),
+                                 (axes[2], density, "particles per cell", True)):
+        plane = middle(value)
+        positive = plane[np.isfinite(plane) & (plane > 0)]
+        norm = matplotlib.colors.LogNorm(positive.min(), positive.max()) if log and positive.size else None
+        image = ax.imshow(np.where(plane > 0, plane, np.nan), origin="lower", cmap="magma" if ax is axes[0] else "viridis",
+                          norm=norm)
+        plt.colorbar(image, ax=ax, label=name)
+        ax.set_title(f"{name}, t = {t:.3g}" + (", z = middle" if density.ndim == 3 else ""), fontsize=10)
+        ax.set_xlabel("x [cells]")
+        ax.set_ylabel("y [cells]")
 
 
 def plot_srd_poiseuille(files, output):
