@@ -25,6 +25,7 @@
 #include "engine/run/runner.hpp"
 #include "systems/edmd/event_driven_run.hpp"
 #include "systems/edmd/gas_setup.hpp"
+#include "systems/edmd/kinetic_theory.hpp"
 #include "systems/observables/kinetic_energy.hpp"
 #include "systems/observables/least_squares.hpp"
 #include "systems/observables/msd.hpp"
@@ -69,9 +70,11 @@ void write(const EdmdMsdResult& r, H5mdFile& file) {
   file.write_attribute("/parameters/derived", "gamma0", r.enskog.gamma0);
   file.write_attribute("/parameters/derived", "haff_tau0", r.enskog.tau0);
   file.write_attribute("/observables", "long_time_slope", r.long_time_slope);
+  file.write_attribute("/observables", "msd_exponent", r.msd_exponent);
   spdlog::info("MSD({}) = {:.5g} +- {:.2g} (theory {:.5g}); slope over the last decade {:.4f} = {:.4f} x 6 D0 (Enskog)",
                r.time.back(), r.msd.back(), r.msd_stderr.back(), r.msd_theory.back(), r.long_time_slope,
                r.long_time_slope / (6 * r.enskog.diffusivity0));
+  spdlog::info("at late times MSD = c + a t^gamma with gamma = {:.4f}", r.msd_exponent);
 }
 
 void declare_keys(ConfigSchema& s) {
@@ -105,14 +108,38 @@ EdmdMsdResult reduce_edmd_msd(const EnsembleResults& results) {
   double t0 = 0.0;
   for (const auto& m : results.members) t0 += m.derived.at("initial_temperature") / runs;
   const double count = static_cast<double>(config.integer("system.count"));
-  const auto enskog = sde::model_from_gas(count, config.real("system.radius"), config.real("collision.restitution"), t0,
+  auto enskog = sde::model_from_gas(count, config.real("system.radius"), config.real("collision.restitution"), t0,
                                    config.real("system.mass"), std::pow(config.real("system.box_length"), 3));
   std::vector<double> time, theory;
   for (const auto& sample : results.members.front().history.at("msd")) time.push_back(sample.time);
-  for (double per_axis : sde::moment_msd(enskog, t0 / config.real("system.mass"), time)) theory.push_back(3.0 * per_axis);
+  const double viscoelastic = config.real("collision.viscoelastic_speed");
+  if (viscoelastic > 0) {
+    // Viscoelastic spheres: D(t) = D0 sqrt(T/T0) = D0 (1 + t/tau)^-5/6 with
+    // tau of their Haff's law, so MSD = 36 D0 tau ((1 + t/tau)^1/6 - 1), the
+    // long-time (t >> 1/gamma0) form: t^1/6 at t >> tau.
+    const double volume = std::pow(config.real("system.box_length"), 3);
+    const double radius = config.real("system.radius"), mass = config.real("system.mass");
+    const double eta = theory::packing_fraction<3>(count, radius, volume);
+    enskog.tau0 = theory::viscoelastic_haff_time<3>(
+        viscoelastic, t0, mass, theory::collision_frequency<3>(count / volume, 2 * radius, t0, mass, eta));
+    for (double t : time) theory.push_back(36.0 * enskog.diffusivity0 * enskog.tau0 * (std::pow(1.0 + t / enskog.tau0, 1.0 / 6.0) - 1.0));
+  } else {
+    for (double per_axis : sde::moment_msd(enskog, t0 / config.real("system.mass"), time)) theory.push_back(3.0 * per_axis);
+  }
   EdmdMsdResult out{reduce_ensemble_msd(results, std::move(time), std::move(theory), config.real("msd.sample_interval"))};
   out.temperature0 = t0;
   out.enskog = enskog;
+  // The MSD's growth exponent, MSD = c + a t^gamma fitted over the
+  // asymptotic window (t >= 100 Haff times), or the last decade where that
+  // window is shorter (an elastic gas: gamma -> 1).
+  const double window = std::min(100.0 * enskog.tau0, 0.1 * config.real("run.t_stop"));
+  std::vector<double> late_time, late_msd;
+  for (std::size_t k = 0; k < out.time.size(); ++k)
+    if (out.time[k] >= window) {
+      late_time.push_back(out.time[k]);
+      late_msd.push_back(out.msd[k]);
+    }
+  out.msd_exponent = fit_offset_power_law(late_time, late_msd, 0.01, 2.0).exponent;
   // Slope over the last decade (least squares).
   LineFit last_decade;
   for (std::size_t k = 0; k < out.time.size(); ++k)

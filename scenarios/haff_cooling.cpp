@@ -2,7 +2,9 @@
 // periodic box, equilibrated elastically, then cooling with restitution xi.
 // Haff's law (Haff 1983; Brilliantov & Poeschel 2004):
 //   T(t)/T0 = 1 / (1 + t/tau0)^2,  tau0 = 2 d / ((1 - xi^2) omega0)  [d = 3; 2 in 2D]
-// with omega0 the Enskog collision frequency of the initial state.
+// with omega0 the Enskog collision frequency of the initial state; for
+// viscoelastic spheres (collision.viscoelastic_speed) T/T0 = (1 + t/tau0)^-5/3
+// (systems/edmd/kinetic_theory.hpp).
 
 #include <spdlog/spdlog.h>
 
@@ -39,7 +41,11 @@ void build(Run& run) {
     run.derive("initial_temperature", temperature0);
     run.derive("initial_kinetic_energy", energy);
     run.derive("enskog_collision_frequency", omega0);
-    run.derive("haff_tau0", theory::haff_time<D>(c.real("collision.restitution"), omega0));
+    const double viscoelastic = c.real("collision.viscoelastic_speed");
+    run.derive("haff_tau0", viscoelastic > 0 ? theory::viscoelastic_haff_time<D>(viscoelastic, temperature0,
+                                                                                 c.real("system.mass"), omega0)
+                                             : theory::haff_time<D>(c.real("collision.restitution"), omega0));
+    run.derive("haff_exponent", viscoelastic > 0 ? 5.0 / 3.0 : 2.0);
   });
   const double energy0 = run.derived("initial_kinetic_energy");
   const double tau0 = run.derived("haff_tau0");
@@ -61,7 +67,7 @@ void build(Run& run) {
                  gas.statistics().pair_collisions,
                  2.0 / D * gas.kinetic_energy() / static_cast<double>(run.world().size()) /
                      run.derived("initial_temperature"),
-                 theory::haff_temperature_ratio(gas.time(), tau0));
+                 std::pow(1.0 + gas.time() / tau0, -run.derived("haff_exponent")));
   });
 }
 

@@ -101,10 +101,11 @@ def plot_haff(files, output):
         temperature = f["/observables/temperature/value"][()]
         derived = f["/parameters/derived"].attrs
         tau0 = float(derived["haff_tau0"])
+        exponent = float(derived.get("haff_exponent", 2.0))  # 5/3: viscoelastic spheres
         t0 = float(derived["initial_temperature"])
         keep = time > 0
         t, ratio = time[keep], temperature[keep] / t0
-        theory = 1.0 / (1.0 + t / tau0) ** 2
+        theory = 1.0 / (1.0 + t / tau0) ** exponent
         colour = f"C{k}"
         if runs_of(f) > 1:
             label = f"{label}, mean of {runs_of(f)} runs"
@@ -114,22 +115,27 @@ def plot_haff(files, output):
                                 alpha=0.3, lw=0)
         top.loglog(t, ratio, "o", ms=3, color=colour, label=label)
         top.loglog(t, theory, "-", color=colour, lw=0.8,
-                   label=r"Haff: $(1 + t/\tau_0)^{-2}$" if k == 0 else None)
+                   label=(r"Haff: $(1 + t/\tau_0)^{-2}$" if exponent == 2.0 else
+                          r"viscoelastic: $(1 + t/\tau_0)^{-5/3}$") if k == 0 else None)
         bottom.semilogx(t, ratio / theory, "o", ms=3, color=colour)
         lowest = min(lowest, ratio.min(), theory.min())
     f = files[0]
     tau0 = float(f["/parameters/derived"].attrs["haff_tau0"])
     t = f["/observables/temperature/time"][()]
     t = t[t > 0]
-    top.loglog(t, (tau0 / t) ** 2, ":", color="grey", label=r"$(t/\tau_0)^{-2}$" + (" (first file)" if len(files) > 1 else ""))
+    exponent = float(f["/parameters/derived"].attrs.get("haff_exponent", 2.0))
+    top.loglog(t, (tau0 / t) ** exponent, ":", color="grey",
+               label=rf"$(t/\tau_0)^{{-{exponent:.3g}}}$" + (" (first file)" if len(files) > 1 else ""))
     top.set_ylim(lowest / 2, 2)
     top.set_ylabel(r"$T(t)/T_0$")
     n = int(f["/parameters/system"].attrs["count"])
     dim = int(f["/parameters/system"].attrs["dimension"])
     if len(files) == 1:
         xi = float(f["/parameters/collision"].attrs["restitution"])
+        g_ve = float(f["/parameters/collision"].attrs.get("viscoelastic_speed", 0.0))
         eta = float(f["/parameters/derived"].attrs["packing_fraction"])
-        top.set_title(f"Haff cooling, {dim}D, N = {n}, $\\eta$ = {eta:.3f}, $\\xi$ = {xi:g}, "
+        law = f"viscoelastic, $g_{{ve}}$ = {g_ve:g}" if g_ve > 0 else f"$\\xi$ = {xi:g}"
+        top.set_title(f"Haff cooling, {dim}D, N = {n}, $\\eta$ = {eta:.3f}, {law}, "
                       f"$\\tau_0$ = {tau0:.3g}", fontsize=10)
     else:
         top.set_title(f"Haff cooling, {dim}D, {len(files)} runs", fontsize=10)

@@ -55,6 +55,7 @@
 #include "systems/edmd/cell_grid.hpp"
 #include "systems/edmd/collapse_monitor.hpp"
 #include "systems/edmd/collision_parameters.hpp"
+#include "systems/edmd/viscoelastic_restitution.hpp"
 #include "systems/edmd/collision_rule.hpp"
 #include "systems/edmd/contact_search.hpp"
 #include "systems/edmd/event_calendar.hpp"
@@ -502,8 +503,13 @@ class EventDrivenGas : public Stateful {
     const bool elastic =
         last_collision_ && (now_ - last_collision_[i] < parameters_.contact_time ||
                             now_ - last_collision_[j] < parameters_.contact_time);
-    const auto result = collide_pair<D>(hot_[i].v, hot_[j].v, mass_[i], mass_[j], dx,
-                                        elastic ? 1.0 : parameters_.restitution);
+    double restitution = parameters_.restitution;
+    if (viscoelastic_.on()) {
+      // Normal impact speed: the approach along the line of centres.
+      const double approach = -(hot_[j].v - hot_[i].v).dot(dx);
+      restitution = viscoelastic_(approach > 0.0 ? approach / std::sqrt(dx.squaredNorm()) : 0.0);
+    }
+    const auto result = collide_pair<D>(hot_[i].v, hot_[j].v, mass_[i], mass_[j], dx, elastic ? 1.0 : restitution);
     statistics_.dissipated_energy += result.dissipated_energy;
     statistics_.virial += result.virial;
     kinetic_energy_ -= result.dissipated_energy;
@@ -541,6 +547,7 @@ class EventDrivenGas : public Stateful {
 
   World& world_;
   CollisionParameters parameters_;
+  ViscoelasticRestitution viscoelastic_{parameters_.viscoelastic_speed};
   bool sort_in_space_;
   Box<D> box_;
   // Whether any axis has walls: a fully periodic box skips their test.

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "systems/edmd/viscoelastic_restitution.hpp"
+
 namespace granflow::theory {
 
 // Packing fraction of N spheres/disks of radius r in volume V.
@@ -55,5 +57,23 @@ inline double haff_temperature_ratio(double t, double tau0) {
   const double s = 1.0 + t / tau0;
   return 1.0 / (s * s);
 }
+
+// Haff's law of viscoelastic spheres (Brilliantov & Poeschel 2000; to first
+// order in (g / g_ve)^1/5): with eps(g) = 1 - C1 (g/g_ve)^1/5 the energy lost
+// per collision, averaged over the Maxwellian flux of normal impact speeds
+// (variance 2T/m), makes 1 - eps^2 effectively C1 2^1.1 Gamma(2.1)
+// (2T / (m g_ve^2))^1/10, so dT/dt = -(1 - eps^2)_eff omega(T) T / d. Its
+// solution is T/T0 = (1 + t/tau)^-5/3 with
+//   1/tau = (3/5) C1 2^1.1 Gamma(2.1) (2 T0 / (m g_ve^2))^1/10 omega(T0) / d.
+template <int D>
+double viscoelastic_haff_time(double viscoelastic_speed, double temperature0, double mass,
+                              double collision_frequency_at_t0) {
+  const double loss = edmd::viscoelastic_c1() * std::pow(2.0, 1.1) * std::tgamma(2.1) *
+                      std::pow(2.0 * temperature0 / (mass * viscoelastic_speed * viscoelastic_speed), 0.1);
+  return 1.0 / (0.6 * loss * collision_frequency_at_t0 / D);
+}
+
+// T(t)/T0 = (1 + t/tau)^-5/3 of viscoelastic spheres.
+inline double viscoelastic_haff_temperature_ratio(double t, double tau) { return std::pow(1.0 + t / tau, -5.0 / 3.0); }
 
 }  // namespace granflow::theory

@@ -74,4 +74,51 @@ inline std::array<double, 3> fit_parabola(const std::vector<double>& x, const st
       x.size(), [&](std::size_t k) { return x[k]; }, [&](std::size_t k) { return y[k]; });
 }
 
+// y = offset + amplitude x^exponent by least squares: for each exponent the
+// offset and amplitude are linear, and the exponent minimising the residual
+// is found by golden-section search in [low, high] (the residual must have
+// one minimum there). A growth law whose early part differs, such as an
+// MSD that approaches c + a t^gamma, has the exponent of its late part.
+struct OffsetPowerLaw {
+  double exponent = std::nan(""), amplitude = std::nan(""), offset = std::nan("");
+};
+inline OffsetPowerLaw fit_offset_power_law(const std::vector<double>& x, const std::vector<double>& y, double low,
+                                           double high) {
+  const auto solve = [&](double exponent, OffsetPowerLaw* out) {
+    LineFit fit;
+    for (std::size_t k = 0; k < x.size(); ++k) fit.add(std::pow(x[k], exponent), y[k]);
+    const double a = fit.slope(), c = fit.intercept();
+    double residual = 0.0;
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      const double r = y[k] - c - a * std::pow(x[k], exponent);
+      residual += r * r;
+    }
+    if (out) *out = {exponent, a, c};
+    return residual;
+  };
+  OffsetPowerLaw out;
+  if (x.size() < 3) return out;
+  const double ratio = (std::sqrt(5.0) - 1.0) / 2.0;
+  double a = low, b = high;
+  double c = b - ratio * (b - a), d = a + ratio * (b - a);
+  double fc = solve(c, nullptr), fd = solve(d, nullptr);
+  for (int k = 0; k < 100 && b - a > 1e-10; ++k) {
+    if (fc < fd) {
+      b = d;
+      d = c;
+      fd = fc;
+      c = b - ratio * (b - a);
+      fc = solve(c, nullptr);
+    } else {
+      a = c;
+      c = d;
+      fc = fd;
+      d = a + ratio * (b - a);
+      fd = solve(d, nullptr);
+    }
+  }
+  solve(0.5 * (a + b), &out);
+  return out;
+}
+
 }  // namespace granflow

@@ -77,6 +77,18 @@ TEST(LineFit, SlopeStandardErrorIsTheScatterOfFittedSlopes) {
   EXPECT_TRUE(std::isnan(two.slope_standard_error()));
 }
 
+TEST(OffsetPowerLaw, RecoversExponentAmplitudeAndOffset) {
+  std::vector<double> x, y;
+  for (int k = 0; k < 40; ++k) {
+    x.push_back(std::pow(10.0, 0.1 * k));
+    y.push_back(-6.0 + 5.5 * std::pow(x.back(), 1.0 / 6.0));
+  }
+  const auto fit = fit_offset_power_law(x, y, 0.01, 2.0);
+  EXPECT_NEAR(fit.exponent, 1.0 / 6.0, 1e-7);
+  EXPECT_NEAR(fit.amplitude, 5.5, 1e-5);
+  EXPECT_NEAR(fit.offset, -6.0, 1e-5);
+}
+
 TEST(FitParabola, RecoversAnExactParabola) {
   std::vector<double> x, y;
   for (int k = 0; k < 20; ++k) {
