@@ -92,8 +92,16 @@ def label_speed_axes(*axes):
 
 
 def plot_haff(files, output):
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(6.4, 6.4), sharex=True,
-                                      gridspec_kw={"height_ratios": [3, 1]})
+    first = files[0]
+    snapshot = (int(first["/parameters/system"].attrs["dimension"]) == 2 and "particles" in first
+                and "position" in first["particles/all"])
+    fig = plt.figure(figsize=(12.4 if snapshot else 6.4, 8.0))
+    grid = fig.add_gridspec(3, 2 if snapshot else 1, height_ratios=[3, 1, 1.2])
+    top = fig.add_subplot(grid[0, 0])
+    bottom = fig.add_subplot(grid[1, 0], sharex=top)
+    collisions = fig.add_subplot(grid[2, 0], sharex=top)
+    if snapshot:
+        draw_disks(fig.add_subplot(grid[:, 1]), first)
     labels = overlay_labels(files) if len(files) > 1 else ["granflow EDMD"]
     lowest = 1.0
     for k, (f, label) in enumerate(zip(files, labels)):
@@ -118,6 +126,9 @@ def plot_haff(files, output):
                    label=(r"Haff: $(1 + t/\tau_0)^{-2}$" if exponent == 2.0 else
                           r"viscoelastic: $(1 + t/\tau_0)^{-5/3}$") if k == 0 else None)
         bottom.semilogx(t, ratio / theory, "o", ms=3, color=colour)
+        if "collisions_per_particle" in f["/observables"]:
+            t_c, count = series(f, "collisions_per_particle")
+            collisions.semilogx(t_c[t_c > 0], count[t_c > 0], "-", color=colour)
         lowest = min(lowest, ratio.min(), theory.min())
     f = files[0]
     tau0 = float(f["/parameters/derived"].attrs["haff_tau0"])
@@ -142,8 +153,31 @@ def plot_haff(files, output):
     top.legend(fontsize=8)
     bottom.axhline(1.0, color="k", lw=0.8)
     bottom.set_ylabel("T / Haff")
-    bottom.set_xlabel("t [T]")
+    collisions.set_ylabel("collisions per particle")
+    collisions.set_xlabel("t [T]")
     save(fig, output)
+
+
+def draw_disks(ax, f):
+    """The last stored frame of a 2D gas, each disk to scale (clusters show)."""
+    group = f["particles/all"]
+    position = group["position/value"][-1]
+    t = group["position/time"][-1]
+    radius = float(f["/parameters/system"].attrs["radius"])
+    edges = f["particles/all/box/edges/value"][-1] if isinstance(f["particles/all/box/edges"], h5py.Group) \
+        else f["particles/all/box/edges"][()]
+    from matplotlib.collections import EllipseCollection
+    ax.add_collection(EllipseCollection(2 * radius * np.ones(len(position)), 2 * radius * np.ones(len(position)),
+                                        np.zeros(len(position)), units="xy", offsets=position[:, :2],
+                                        offset_transform=ax.transData, facecolors="C0", edgecolors="none"))
+    edges = np.asarray(edges)
+    lengths = np.diag(edges) if edges.ndim == 2 else edges  # edges as box vectors or as lengths
+    ax.set_xlim(0, float(lengths[0]))
+    ax.set_ylim(0, float(lengths[1]))
+    ax.set_aspect("equal")
+    ax.set_title(f"positions at t = {t:.3g}", fontsize=10)
+    ax.set_xlabel("x [L]")
+    ax.set_ylabel("y [L]")
 
 
 def text(value):

@@ -21,6 +21,7 @@ inline void declare_key_units(ConfigSchema& schema) {
       {"initial.temperature", unit::energy},    {"initial.equilibration_collisions", unit::none},
       {"collision.restitution", unit::none},    {"collision.wall_restitution", unit::none},
       {"collision.contact_time", unit::time},   {"collision.collapse_rate_factor", unit::none},
+      {"collision.viscoelastic_speed", unit::velocity},
       {"run.t_stop", unit::time},               {"run.dt", unit::time},
       {"run.max_collisions_per_particle", unit::none}, {"run.min_energy_fraction", unit::none},
       {"output.interval", unit::time},          {"output.first", unit::time},
