@@ -73,7 +73,7 @@ def reduced_sweep(source, sweep, pairs, directory):
         if key == "scenario_file":
             value = os.path.join(os.path.dirname(path), value)
         lines.append(f"{key} = {toml_literal(value)}")
-    tables = {name: dict(value) for name, value in parsed.items() if isinstance(value, dict)}
+    tables = {name: flatten(value) for name, value in parsed.items() if isinstance(value, dict)}
     base = tables.setdefault("set", {})
     for key, value in pairs:
         base[key] = tomllib.loads(f"x = {toml_value(value)}")["x"]
@@ -83,6 +83,17 @@ def reduced_sweep(source, sweep, pairs, directory):
     out = os.path.join(directory, os.path.basename(sweep))
     with open(out, "w") as f:
         f.write("\n".join(lines) + "\n")
+    return out
+
+
+def flatten(table, prefix=""):
+    """{"a": {"b": 1}} as {"a.b": 1}: configuration keys written as nested tables."""
+    out = {}
+    for key, value in table.items():
+        if isinstance(value, dict):
+            out.update(flatten(value, f"{prefix}{key}."))
+        else:
+            out[f"{prefix}{key}"] = value
     return out
 
 
