@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "engine/core/output_times.hpp"
+#include "engine/core/units.hpp"
 #include "engine/run/ensemble_keys.hpp"
 #include "engine/run/ensemble_series.hpp"
 #include "engine/run/run.hpp"
@@ -116,6 +117,7 @@ GRANFLOW_REGISTER_SCENARIO(gsrd_cooling, Scenario{
     s.integer("output.points_per_decade", 20, 1, 1000, "outputs per decade of steps");
     s.integer("output.distribution_bins", 40, 2, 100000, "bins of velocity_distribution in c = |v - <v>| / v_T, over [0, 4)");
     s.real("clusters.threshold", 2.0, 0.0, 1e9, "a cell belongs to a cluster above this many times n0 particles");
+    s.unit("clusters.threshold", unit::none);
     declare_ensemble_keys(s, 1);
   },
   .build = build_by_dimension<build<2>, build<3>>,

@@ -57,24 +57,15 @@
 #include "systems/srd/srd_setup.hpp"
 #include "systems/srd/srd_state_observer.hpp"
 #include "systems/srd/srd_theory.hpp"
+#include "tests/scenario_run.hpp"
 #include "tests/scenario_schema.hpp"
-#include "tests/scratch_directory.hpp"
 
 namespace granflow {
 namespace {
 
-std::string scratch(const std::string& name) {
-  static const ScratchDirectory directory("granflow_srd_scenarios_");
-  return (directory.path / (name + ".h5md")).string();
-}
-
-H5mdReader run(const std::string& scenario, Config config, const std::string& name) {
-  RunOptions options;
-  options.output_path = scratch(name);
-  options.progress = false;
-  options.handle_signals = false;
-  EXPECT_EQ(run_scenario(*scenario_registry().find(scenario), config, options), 0);
-  return H5mdReader(options.output_path);
+H5mdReader run(const std::string& scenario, const Config& config, const std::string& name) {
+  static const ScratchDirectory scratch("granflow_srd_scenarios_");
+  return run_scenario_in(scratch, scenario, config, name);
 }
 
 struct ViscosityCase {
@@ -159,7 +150,9 @@ TEST_P(GsrdViscosity, KineticViscosityMatchesTheGranularTheoryAtTheMeasuredTempe
               temperature, steady, contrast.back());
   EXPECT_GT(error, 0.0);
   EXPECT_NEAR(measured, theory, 0.05 * theory + 3 * error);
-  if (angle >= 30) EXPECT_NEAR(temperature, steady, 0.06 * steady);
+  if (angle >= 30) {
+    EXPECT_NEAR(temperature, steady, 0.06 * steady);
+  }
   EXPECT_LT(contrast.back(), 1.1);
 }
 

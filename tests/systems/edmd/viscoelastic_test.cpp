@@ -19,15 +19,12 @@
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 
-#include "engine/io/h5md_reader.hpp"
-#include "engine/run/runner.hpp"
 #include "scenarios/brownian_edmd.hpp"
 #include "systems/edmd/viscoelastic_restitution.hpp"
 #include "systems/observables/least_squares.hpp"
+#include "tests/scenario_run.hpp"
 #include "tests/scenario_schema.hpp"
-#include "tests/scratch_directory.hpp"
 
 namespace granflow {
 namespace {
@@ -59,18 +56,9 @@ TEST(Viscoelastic, TableMatchesTheIntegration) {
   EXPECT_FALSE(edmd::ViscoelasticRestitution(0.0).on());
 }
 
-std::string scratch(const std::string& name) {
-  static const ScratchDirectory directory("granflow_viscoelastic_");
-  return (directory.path / (name + ".h5md")).string();
-}
-
 H5mdReader run(const std::string& scenario, const Config& config, const std::string& name) {
-  RunOptions options;
-  options.output_path = scratch(name);
-  options.progress = false;
-  options.handle_signals = false;
-  EXPECT_EQ(run_scenario(*scenario_registry().find(scenario), config, options), 0);
-  return H5mdReader(options.output_path);
+  static const ScratchDirectory scratch("granflow_viscoelastic_");
+  return run_scenario_in(scratch, scenario, config, name);
 }
 
 TEST(Viscoelastic, HaffLawOfViscoelasticSpheres) {

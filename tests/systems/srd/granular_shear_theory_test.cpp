@@ -122,7 +122,15 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(Case{2, Dissipation::rotated_plane, 30, 2}, Case{2, Dissipation::rotated_plane, 30, 12},
                       Case{2, Dissipation::rotated_plane, 130, 5}, Case{2, Dissipation::random_axis, 60, 5},
                       Case{3, Dissipation::rotated_plane, 20, 3}, Case{3, Dissipation::rotated_plane, 90, 10},
-                      Case{3, Dissipation::random_axis, 130, 5}, Case{3, Dissipation::whole, 50, 7}));
+                      Case{3, Dissipation::random_axis, 130, 5}, Case{3, Dissipation::whole, 50, 7}),
+    [](const auto& test) {
+      const Case& c = test.param;
+      const char* rule = c.rule == Dissipation::rotated_plane ? "rotated_plane"
+                         : c.rule == Dissipation::random_axis ? "random_axis"
+                                                              : "whole";
+      return std::to_string(c.dimension) + "D_" + rule + "_alpha" + std::to_string(int(c.alpha_degrees)) + "_n" +
+             std::to_string(c.n);
+    });
 
 TEST(GranularShearTheory, ElasticLimitIsKikuchi) {
   for (int d : {2, 3})
