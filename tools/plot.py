@@ -29,6 +29,10 @@ Several files of one scenario are told apart in the legend by the
   (run.runs > 1) is drawn as its mean with a band of two standard errors.
 sweep summaries: each summary observable (mean and standard error over
   repeats) against a swept key.
+--srd-viscosity-theory (no files): the kinetic (streaming) viscosity of SRD
+  against the temperature for several rotation angles beside the
+  temperature-independent collisional one (Kikuchi et al. 2003), at
+  --n0 and --dt: where the curves cross, collisions carry the momentum.
 """
 import argparse
 import glob
@@ -952,14 +956,56 @@ PLOTTERS = {"haff_cooling": plot_haff,
             "gsrd_cooling": plot_gsrd_cooling}
 
 
+def srd_collision_factor(n0):
+    return n0 - 1.0 + np.exp(-n0)
+
+
+def srd_kinetic_viscosity(dimension, n0, alpha, temperature, dt):
+    """Kikuchi et al. 2003, as systems/srd/srd_theory.hpp (plot_test checks the two agree)."""
+    f = srd_collision_factor(n0)
+    bracket = (n0 / (f * (1 - np.cos(2 * alpha))) if dimension == 2 else
+               5 * n0 / (f * (4 - 2 * np.cos(alpha) - 2 * np.cos(2 * alpha)))) - 0.5
+    return temperature * dt * bracket
+
+
+def srd_collisional_viscosity(dimension, n0, alpha, dt):
+    return (1 - np.cos(alpha)) * srd_collision_factor(n0) / n0 / ((12 if dimension == 2 else 18) * dt)
+
+
+def plot_srd_viscosity_theory(output, n0, dt, dimension):
+    fig, ax = plt.subplots(figsize=(6.4, 4.8))
+    temperature = np.geomspace(1e-4, 10, 200)
+    for k, degrees in enumerate((10, 20, 45, 90, 130)):
+        alpha = np.radians(degrees)
+        colour = f"C{k}"
+        ax.loglog(temperature, srd_kinetic_viscosity(dimension, n0, alpha, temperature, dt), "-", color=colour,
+                  label=f"kinetic, $\\alpha$ = {degrees} deg")
+        ax.axhline(srd_collisional_viscosity(dimension, n0, alpha, dt), color=colour, ls="--", lw=0.8)
+    ax.plot([], [], "k--", lw=0.8, label="collisional (same colours)")
+    ax.set_xlabel("kT [M L2 T-2] (m = 1)")
+    ax.set_ylabel("kinematic viscosity [L2 T-1]")
+    ax.set_title(f"SRD {dimension}D, n0 = {n0:g}, $\\Delta t$ = {dt:g}: viscosity as the fluid cools", fontsize=10)
+    ax.legend(fontsize=7)
+    save(fig, output)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("files", nargs="+", help="granflow H5MD result files (several: overlaid where it makes sense)")
+    parser.add_argument("files", nargs="*", help="granflow H5MD result files (several: overlaid where it makes sense)")
     parser.add_argument("-o", "--output", help="figure file (default: first FILE with .png)")
     parser.add_argument("--x", help="sweep summaries: swept key on the x axis (default: the first)")
     parser.add_argument("--y", action="append", help="sweep summaries: observable to draw (repeatable; default: all)")
     parser.add_argument("--logx", action="store_true", help="sweep summaries: logarithmic x axis")
+    parser.add_argument("--srd-viscosity-theory", action="store_true",
+                        help="no files: SRD's kinetic and collisional viscosity against temperature")
+    parser.add_argument("--n0", type=float, default=5.0, help="--srd-viscosity-theory: particles per cell")
+    parser.add_argument("--dt", type=float, default=1.0, help="--srd-viscosity-theory: time step")
+    parser.add_argument("--dimension", type=int, default=3, choices=(2, 3), help="--srd-viscosity-theory: 2 or 3")
     args = parser.parse_args()
+    if args.srd_viscosity_theory:
+        return plot_srd_viscosity_theory(args.output or "srd_viscosity_theory.png", args.n0, args.dt, args.dimension)
+    if not args.files:
+        parser.error("give result files (or --srd-viscosity-theory)")
     first = args.files[0]
     output = args.output or os.path.splitext(first)[0] + ".png"
     files = [h5py.File(name, "r") for name in args.files]

@@ -44,5 +44,31 @@ for stem, key in (("haff", "collision.restitution"), ("gsrd", "srd.restitution")
     assert labels == [f"{key} = 0.9", f"{key} = 0.7"], labels
     print("ok: legend", labels)
 PY
+# The theory figure draws the viscosities the program derives: its formulas
+# against a run's derived values (2D and 3D).
+"$granflow" run "$source_dir/scenarios/srd_viscosity.toml" -q --set 'system.cells=[8,8]' --set run.steps=20 \
+  --set viscosity.warmup_steps=5 --set output.every_steps=10 -o "$work/visc2.h5md" || fail "srd_viscosity 2D"
+"$granflow" run "$source_dir/scenarios/srd_viscosity.toml" -q --set system.dimension=3 --set 'system.cells=[6,6,6]' \
+  --set srd.rotation_angle=70 --set run.steps=20 --set viscosity.warmup_steps=5 --set output.every_steps=10 \
+  -o "$work/visc3.h5md" || fail "srd_viscosity 3D"
+PYTHONPATH="$source_dir/tools" /usr/bin/python3 - "$work" <<'PY' || fail "plot.py's SRD viscosities differ from the program's"
+import sys, h5py, numpy as np, plot
+for name in ("visc2", "visc3"):
+    f = h5py.File(f"{sys.argv[1]}/{name}.h5md", "r")
+    srd, derived = f["/parameters/srd"].attrs, f["/parameters/derived"].attrs
+    d = int(f["/parameters/system"].attrs["dimension"])
+    n0, alpha, dt = float(srd["particles_per_cell"]), np.radians(float(srd["rotation_angle"])), float(srd["time_step"])
+    temperature = float(f["/parameters/thermostat"].attrs["temperature"]) or float(srd["temperature"])
+    kinetic = plot.srd_kinetic_viscosity(d, n0, alpha, temperature, dt)
+    collisional = plot.srd_collisional_viscosity(d, n0, alpha, dt)
+    assert np.isclose(kinetic, derived["viscosity_kinetic_theory"], rtol=1e-12), (name, kinetic)
+    assert np.isclose(collisional, derived["viscosity_collisional_theory"], rtol=1e-12), (name, collisional)
+    print(f"ok: {name}: plot.py's viscosities are the program's")
+PY
+if /usr/bin/python3 "$plot" --srd-viscosity-theory -o "$work/theory.png" > /dev/null && [[ -s "$work/theory.png" ]]; then
+  echo "ok: plot.py --srd-viscosity-theory"
+else
+  fail "plot.py --srd-viscosity-theory wrote no figure"
+fi
 echo "$failures failure(s)"
 [[ $failures -eq 0 ]]
