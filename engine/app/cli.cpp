@@ -287,6 +287,16 @@ int main(int argc, char** argv) {
 
   try {
     if (*run) {
+      // One system runs on one machine's threads; several ranks would each
+      // run all of it into the same file.
+      if (const int ranks = mpi_world_size_from_environment(); ranks > 1) {
+        if (mpi_rank_from_environment() != 0) return exit_bad_input;
+        throw ConfigError(fmt::format(
+            "granflow run was started as {} MPI ranks, but it runs one system on one machine, with every core "
+            "of it as threads (--threads); start it without mpirun, or spread several runs over ranks with "
+            "`mpirun -np {} granflow sweep FILE`",
+            ranks, ranks));
+      }
       if (quiet) spdlog::set_level(spdlog::level::warn);
       options.progress = !quiet;
       return run_command(file, overrides, options, threads);

@@ -23,4 +23,17 @@ inline int mpi_world_size_from_environment() {
   return std::getenv("PMIX_RANK") ? 1 : 0;
 }
 
+// This process's rank among them (0 when not started by a launcher).
+inline int mpi_rank_from_environment() {
+  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"}) {
+    const char* value = std::getenv(name);
+    if (!value) continue;
+    try {
+      return std::stoi(value);
+    } catch (const std::exception&) {
+    }
+  }
+  return 0;
+}
+
 }  // namespace granflow

@@ -3,7 +3,8 @@
 # the summary and the observables of a one-worker sweep; a sweep whose rank
 # is killed mid-way is finished by the same command; shards run under
 # mpirun and --collect agree with it too; errors are reported once, with
-# exit status 2, and rank 0 alone reports the sweep.
+# exit status 2, and rank 0 alone reports the sweep; `granflow run` started
+# as several ranks is refused once, with exit status 2, and writes nothing.
 set -u
 granflow="$1"
 mpiexec="$2"
@@ -23,6 +24,14 @@ same_tables() {  # same_tables DIR what
     else fail "$table differs ($2)"; diff "$work/local/$table" "$1/$table"; fi
   done
 }
+
+output=$(ranks 2 run "$scenario" -q --set system.count=200 --set run.t_stop=1 -o "$work/one_system.h5md" 2>&1); status=$?
+refusals=$(grep -c "started as 2 MPI ranks" <<< "$output")
+if [[ $status -ne 0 && $refusals -eq 1 && ! -e "$work/one_system.h5md" && ! -e "$work/one_system.h5md.partial" ]]; then
+  echo "ok: granflow run under 2 ranks refused once, nothing written"
+else
+  fail "granflow run under 2 ranks: exit $status, $refusals refusals, files: $(ls "$work" | grep one_system): $output"
+fi
 
 "$granflow" sweep "$work/sweep.toml" -j 1 -o "$work/local" -q || fail "one-machine sweep exited with $?"
 output=$(ranks 2 sweep "$work/sweep.toml" -j 1 -o "$work/ranks" 2>&1); status=$?
