@@ -209,14 +209,15 @@ double layer_volume(const std::array<std::int32_t, D>& cells, int axis) {
 // The profiles across `axis` of a box of `cells`: sampled every step after
 // `warmup_steps`, written every `every_steps` after it; the sums (kept in
 // checkpoints as "profiles") hold the average since the warm-up. `flow`:
-// the velocity component profiled; `band`: the shear-band measures too.
+// the velocity component profiled; `band`: the shear-band measures too;
+// `stride`: steps between samples (1: every step).
 template <int D>
 std::shared_ptr<ProfileSums> add_layer_profiles(Run& run, const std::array<std::int32_t, D>& cells, int axis,
                                                 std::int64_t warmup_steps, std::int64_t every_steps, int flow = 0,
-                                                bool band = false) {
+                                                bool band = false, std::int64_t stride = 1) {
   auto sums = std::make_shared<ProfileSums>(cells[axis], D);
   run.keep("profiles", *sums);
-  run.observe<SrdProfileSampler<D>>(std::make_shared<EverySteps>(1, warmup_steps + 1), axis, flow, sums);
+  run.observe<SrdProfileSampler<D>>(std::make_shared<EverySteps>(stride, warmup_steps + stride), axis, flow, sums);
   run.observe<SrdProfileObserver<D>>(std::make_shared<EverySteps>(every_steps, warmup_steps + every_steps),
                                      layer_volume<D>(cells, axis), 1.0, sums, band);
   return sums;

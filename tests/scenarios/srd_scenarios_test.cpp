@@ -16,8 +16,9 @@
 //    temperature within 6 % of the balance's from 30 degrees on (measured
 //    3.3 % at 30, 0.7 % at 50; at 10 degrees, where shear makes the thermal
 //    motion anisotropic, it settles 18 % lower); no shear band (contrast
-//    below 1.1); at eps_eff = 0.946, alpha = 50 (scenarios/gsrd_shear_band.toml)
-//    the fluid cools below what the shear keeps homogeneous and a band
+//    below 1.2: the Poisson noise of ten samples of 320 particles per layer
+//    puts the densest of 32 layers about 4 x 1.8 % above the thinnest); at
+//    eps_eff = 0.946, alpha = 50 (scenarios/gsrd_shear_band.toml) the fluid cools below what the shear keeps homogeneous and a band
 //    forms: density contrast above 4 after 8000 steps and growing, the
 //    densest layer at least 3 times colder than the median one;
 //  * granular SRD cooling (gsrd_cooling): the measured Haff time
@@ -153,7 +154,7 @@ TEST_P(GsrdViscosity, KineticViscosityMatchesTheGranularTheoryAtTheMeasuredTempe
   if (angle >= 30) {
     EXPECT_NEAR(temperature, steady, 0.06 * steady);
   }
-  EXPECT_LT(contrast.back(), 1.1);
+  EXPECT_LT(contrast.back(), 1.2);
 }
 
 INSTANTIATE_TEST_SUITE_P(Short, GsrdViscosity, testing::Values(10.0, 30.0, 50.0),
