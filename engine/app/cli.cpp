@@ -14,6 +14,7 @@
 #include <optional>
 
 #include "engine/app/mpi_launch.hpp"
+#include "engine/app/run_ranks.hpp"
 #include "engine/app/sweep_plan.hpp"
 #include "engine/app/sweep_ranks.hpp"
 #include "engine/app/sweep_runner.hpp"
@@ -287,15 +288,23 @@ int main(int argc, char** argv) {
 
   try {
     if (*run) {
-      // One system runs on one machine's threads; several ranks would each
-      // run all of it into the same file.
+      // Several ranks spread one system (the scenarios with a distributed
+      // step); a build without MPI would run it once per rank into one file.
       if (const int ranks = mpi_world_size_from_environment(); ranks > 1) {
+#ifdef GRANFLOW_WITH_MPI
+        if (quiet) spdlog::set_level(spdlog::level::warn);
+        options.progress = !quiet;
+        return run_on_ranks(options, [&](const RunOptions& on_ranks) {
+          return run_command(file, overrides, on_ranks, threads);
+        });
+#else
         if (mpi_rank_from_environment() != 0) return exit_bad_input;
         throw ConfigError(fmt::format(
-            "granflow run was started as {} MPI ranks, but it runs one system on one machine, with every core "
-            "of it as threads (--threads); start it without mpirun, or spread several runs over ranks with "
-            "`mpirun -np {} granflow sweep FILE`",
-            ranks, ranks));
+            "granflow run was started as {} MPI ranks, but this build has no MPI (configure with "
+            "-DGRANFLOW_MPI=ON to spread one SRD system over ranks); start it without mpirun to run it on this "
+            "machine's cores (--threads)",
+            ranks));
+#endif
       }
       if (quiet) spdlog::set_level(spdlog::level::warn);
       options.progress = !quiet;

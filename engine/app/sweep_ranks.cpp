@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "engine/app/mpi_session.hpp"
 #include "engine/app/sweep_results.hpp"
 #include "engine/core/config.hpp"
 #include "engine/run/runner.hpp"
@@ -41,7 +42,7 @@ struct Finished {
 };
 
 // The runs handed to this rank, on its own worker threads; only the thread
-// that talks to the other ranks calls MPI (MPI_THREAD_FUNNELED).
+// that talks to the other ranks calls MPI (it would do with MPI_THREAD_FUNNELED).
 class RunSlots {
  public:
   RunSlots(const SweepPlan& plan, int workers) : plan_(plan), workers_(static_cast<std::size_t>(workers)) {
@@ -296,16 +297,6 @@ unsigned long long plan_fingerprint(const SweepPlan& plan) {
   return hash;
 }
 
-class MpiSession {
- public:
-  MpiSession() {
-    int provided = 0;
-    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
-  }
-  ~MpiSession() { MPI_Finalize(); }
-  MpiSession(const MpiSession&) = delete;
-  MpiSession& operator=(const MpiSession&) = delete;
-};
 
 }  // namespace
 

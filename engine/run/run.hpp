@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "components/clock.hpp"
+#include "engine/core/communicator.hpp"
 #include "engine/core/config.hpp"
 #include "engine/core/observable_store.hpp"
 #include "engine/core/profiler.hpp"
@@ -111,6 +112,14 @@ class Run {
     box_edges_ = std::move(edges);
     box_boundary_ = std::move(boundary);
   }
+  // The ranks this one system is spread over (`mpirun -np K granflow run`),
+  // or null: a scenario that offers a distributed step installs it here and
+  // refuses what it cannot distribute.
+  const Communicator* communicator() const { return communicator_; }
+  void on_ranks(const Communicator* communicator) { communicator_ = communicator; }
+  // Said by a scenario whose step spreads the system over those ranks.
+  void mark_distributed() { distributed_ = true; }
+  bool distributed() const { return distributed_; }
   // What a long phase of making the initial state (placement, an
   // equilibration) reports its progress to and watches for interruption.
   Preparation preparation(const std::string& phase) const { return {phase, setup_progress_, interrupt_}; }
@@ -174,6 +183,8 @@ class Run {
   std::vector<std::function<void(H5mdFile&, const RunOutcome&)>> finish_hooks_;
   std::function<void(const std::string&, double)> setup_progress_;
   const std::atomic<bool>* interrupt_ = nullptr;
+  const Communicator* communicator_ = nullptr;
+  bool distributed_ = false;
   // Time and step of the last round of observers (every trigger has passed them).
   double round_time_ = -std::numeric_limits<double>::infinity();
   std::int64_t round_step_ = -1;

@@ -134,31 +134,48 @@ void report_interruption(int signal_number, const std::string& checkpoint, const
 int single_run(const Scenario& scenario, const Config& config, const RunOptions& options) {
   const std::string output = output_path_of(scenario, options);
   const std::string checkpoint = output + ".checkpoint";
+  // Over several ranks, rank 0 writes the result and the checkpoints; the
+  // others run the same loop without a file.
+  Communicator* const ranks = options.communicator;
+  const bool writer = !ranks || ranks->rank() == 0;
   check_output_path(output);
   std::optional<CheckpointContents> resumed;
   if (options.resume)
     resumed = load_for_resume(checkpoint, config.schema(), config);
   else
     check_existing_checkpoint(checkpoint, config);
-  if (std::filesystem::exists(output)) spdlog::info("replacing the existing result file '{}'", output);
+  if (writer && std::filesystem::exists(output)) spdlog::info("replacing the existing result file '{}'", output);
 
   // From here on a signal stops the run at a safe point instead of killing it.
   std::optional<InterruptGuard> own_guard;
   const InterruptGuard* guard = options.interrupt_guard;
   if (!guard && options.handle_signals) guard = &own_guard.emplace();
-  H5mdFile file(output, scenario.name);
-  file.write_parameters(config);
+  if (ranks && guard) ranks->watch_interrupt(&guard->requested());
+  const std::atomic<bool>* interrupt = guard ? (ranks ? ranks->agreed_interrupt() : &guard->requested()) : nullptr;
+  std::optional<H5mdFile> file;
+  if (writer) {
+    file.emplace(output, scenario.name);
+    file->write_parameters(config);
+    if (ranks) file->write_attribute("/parameters/derived", "ranks", static_cast<double>(ranks->size()));
+  }
   Profiler profiler;
   Run run(config, profiler, static_cast<std::uint64_t>(config.integer("run.seed")), 0,
-          resumed ? &resumed->state : nullptr, &file);
+          resumed ? &resumed->state : nullptr, file ? &*file : nullptr);
+  run.on_ranks(ranks);
   {
-    Progress setup(scenario.name + " setup", "", options.progress);
+    Progress setup(scenario.name + " setup", "", options.progress && writer);
     run.on_setup_progress([&setup](const std::string& phase, double fraction) { setup.update(fraction, 0.0, phase); });
     if (guard) run.on_interrupt(&guard->requested());
     std::optional<std::string> interrupted;
     refusing_bad_checkpoint(checkpoint, resumed.has_value(), [&] {
       try {
         scenario.build(run);
+        if (ranks && ranks->size() > 1 && !run.distributed())
+          throw ConfigError(fmt::format(
+              "{} has no distributed step: it runs one system on one machine, with every core of it as threads "
+              "(--threads); start it without mpirun, or spread several runs over ranks with `mpirun -np {} "
+              "granflow sweep FILE` (one system over ranks: the SRD scenarios)",
+              scenario.name, ranks->size()));
         run.prepare();
       } catch (const PreparationInterrupted& stop) {
         interrupted = stop.what();
@@ -172,48 +189,56 @@ int single_run(const Scenario& scenario, const Config& config, const RunOptions&
       return exit_interrupted(guard->signal_number());
     }
   }
-  if (guard && guard->requested()) {
+  if (guard && guard->requested() && !ranks) {
     spdlog::warn("interrupted (signal {}) while preparing the initial state: nothing to resume", guard->signal_number());
     return exit_interrupted(guard->signal_number());
   }
   if (resumed) spdlog::info("resuming from '{}' at t = {:.6g}", checkpoint, run.clock().time);
-  file.flush();  // readable from the start: parameters, and a resumed run's series so far
+  if (file) file->flush();  // readable from the start: parameters, and a resumed run's series so far
 
-  Progress progress(scenario.name, run.rate_unit(), options.progress && options.log_every == 0);
+  Progress progress(scenario.name, run.rate_unit(), options.progress && options.log_every == 0 && writer);
   std::optional<ThermoLog> log;
-  if (options.log_every > 0) log.emplace(options.log_every, options.log_observables, run.recorder());
+  if (options.log_every > 0 && writer) log.emplace(options.log_every, options.log_observables, run.recorder());
   const double interval = config.real("output.checkpoint_interval");
   auto last_checkpoint = std::chrono::steady_clock::now();
+  const auto save_checkpoint = [&] {
+    const StateMap state = run.save();  // collective over ranks: every rank takes part
+    if (writer) write_checkpoint(checkpoint, scenario.name, config, state);
+  };
   const auto after_round = [&] {
     progress.update(run.progress_fraction(), run.work_done());
     if (log) log->after_round(run.clock().step, run.clock().time);
     const auto now = std::chrono::steady_clock::now();
-    if (std::chrono::duration<double>(now - last_checkpoint).count() >= interval) {
-      write_checkpoint(checkpoint, scenario.name, config, run.save());
+    bool due = std::chrono::duration<double>(now - last_checkpoint).count() >= interval;
+    if (ranks) due = ranks->from_first(due);  // rank 0's clock decides for all
+    if (due) {
+      save_checkpoint();
       last_checkpoint = std::chrono::steady_clock::now();
     }
   };
-  const RunOutcome outcome = run.execute(guard ? &guard->requested() : nullptr, after_round);
+  const RunOutcome outcome = run.execute(interrupt, after_round);
   progress.finish();
   if (outcome.kind == RunOutcome::Kind::interrupted) {
-    write_checkpoint(checkpoint, scenario.name, config, run.save());
-    report_interruption(guard->signal_number(), checkpoint, fmt::format("at t = {:.6g}", run.clock().time));
+    save_checkpoint();
+    if (writer) report_interruption(guard->signal_number(), checkpoint, fmt::format("at t = {:.6g}", run.clock().time));
     return exit_interrupted(guard->signal_number());
   }
   run.write_results(outcome);
   // Taken while the file is open: the checkpoint carries the frames it holds.
   std::optional<StateMap> final_state;
   if (config.boolean("output.final_checkpoint")) final_state = run.save();
-  file.write_profile(profiler.entries());
-  file.finish();
-  if (final_state)
-    write_checkpoint(checkpoint, scenario.name, config, *final_state);
-  else
-    std::filesystem::remove(checkpoint);
-  if (options.profile) fmt::print("{}", profiler.table());
-  spdlog::info("wrote {} (t = {:.6g}: {})", output, run.clock().time, outcome.reason);
+  if (file) {
+    file->write_profile(profiler.entries());
+    file->finish();
+    if (final_state)
+      write_checkpoint(checkpoint, scenario.name, config, *final_state);
+    else
+      std::filesystem::remove(checkpoint);
+  }
+  if (options.profile && writer) fmt::print("{}", profiler.table());
+  if (writer) spdlog::info("wrote {} (t = {:.6g}: {})", output, run.clock().time, outcome.reason);
   if (outcome.kind == RunOutcome::Kind::failed) {
-    spdlog::error("{}", outcome.reason);
+    if (writer) spdlog::error("{}", outcome.reason);
     return exit_physics_failed;
   }
   return exit_finished;
@@ -426,6 +451,10 @@ EnsembleResults simulate_ensemble(const Scenario& scenario, const Config& config
 int run_scenario(const Scenario& scenario, const Config& given, const RunOptions& options) {
   Config config = given;
   if (scenario.adopt) scenario.adopt(config);
+  if (options.communicator && options.communicator->size() > 1 && scenario.runs_as_ensemble(config))
+    throw ConfigError(fmt::format("{} with run.runs = {} is an ensemble of independent runs: spread them over ranks "
+                                  "with `mpirun -np {} granflow sweep FILE` (one system over ranks needs run.runs = 1)",
+                                  scenario.name, config.integer("run.runs"), options.communicator->size()));
   try {
     return scenario.runs_as_ensemble(config) ? ensemble_run(scenario, config, options)
                                              : single_run(scenario, config, options);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/core/communicator.hpp"
 #include "engine/core/config.hpp"
 #include "engine/core/interrupt.hpp"
 #include "engine/run/scenario.hpp"
@@ -25,6 +26,10 @@ struct RunOptions {
   // A table of observables on standard error every `log_every` output rounds (0: none).
   std::int64_t log_every = 0;
   std::vector<std::string> log_observables;  // empty: the first six scalar ones
+  // The ranks one system is spread over (null: this process alone). Rank 0
+  // writes the result file and the checkpoints; every rank runs the same
+  // loop, so that the collective calls of a distributed step match.
+  Communicator* communicator = nullptr;
 };
 
 // Exit statuses of a run.

@@ -81,7 +81,7 @@ class SrdRotation : public SystemOf<Reads<Clock>, Writes<Velocity<D>, SrdCells<D
         for (int a = 0; a < D; ++a) collision.mean[a] = cells.velocity[c][a];
         const double members = cells.count[c] + (cells.ghosts.empty() ? 0.0 : cells.ghosts[c]);
         bool below_zero = false;
-        cell_collision_matrix<D>(base_, granular, seed_, step, c, members, cells.theta[c], collision.matrix, below_zero);
+        cell_collision_matrix<D>(base_, granular, seed_, step, cells.cell_key(c), members, cells.theta[c], collision.matrix, below_zero);
         clamped_here += below_zero;
         cells.transfer[c] = transfer && members >= 2 ? collisional_transfer<D>(collision.matrix, cells.moment[c].data()) : 0.0;
       }

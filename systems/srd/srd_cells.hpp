@@ -141,6 +141,12 @@ struct SrdCells {
     if (!walls.empty()) ghosts.assign(total, 0);
   }
   std::size_t cell_count() const { return mass.size(); }
+  // The number cell c's random numbers are keyed by: c itself, or on one
+  // rank's part of a grid spread over ranks (srd_domain_step.hpp), the cell
+  // of the whole grid it is, so that every rank draws what one rank would.
+  std::uint64_t key_offset = 0;
+  std::uint64_t key_period = 0;  // 0: the grid is the whole grid
+  std::uint64_t cell_key(std::size_t c) const { return key_period == 0 ? c : (c + key_offset) % key_period; }
   // Whether cell c of this step's shifted grid lies wholly between the walls
   // at `time` (true along axes without walls).
   bool inside_walls(std::size_t c, double time) const {

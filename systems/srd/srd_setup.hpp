@@ -31,6 +31,7 @@
 #include "systems/srd/grid_shift.hpp"
 #include "systems/srd/rotation.hpp"
 #include "systems/srd/srd_cells.hpp"
+#include "systems/srd/srd_domain_step.hpp"
 #include "systems/srd/srd_device_backends.hpp"
 #include "systems/srd/srd_step_limits.hpp"
 #include "systems/srd/srd_walls.hpp"
@@ -234,6 +235,31 @@ inline RotationParameters rotation_from(const Config& c) {
           dissipation_from(c), c.real("shear.rate") > 0.0};
 }
 
+// The step over MPI ranks (srd_domain_step.hpp), for what it offers so far:
+// a periodic fluid without a body force, a thermostat or Lees-Edwards planes,
+// on the CPU; the rest is refused, naming what to change.
+template <int D>
+void add_domain_step(Run& run, const SrdCells<D>& state, const BodyForce<D>& force, bool walled, bool record_energy) {
+  const Config& c = run.config();
+  const int ranks = run.communicator()->size();
+  const auto refuse = [&](const std::string& what) {
+    throw ConfigError(fmt::format("{} is not yet offered over several ranks (this run has {}): one SRD system over "
+                                  "ranks is a periodic fluid without walls, body force, thermostat or shear; run "
+                                  "this one without mpirun",
+                                  what, ranks));
+  };
+  if (walled) refuse("an SRD fluid between walls");
+  if (force.any()) refuse("force.acceleration");
+  if (c.real("shear.rate") > 0.0) refuse(fmt::format("shear.rate = {} (Lees-Edwards planes)", c.real("shear.rate")));
+  if (c.real("thermostat.temperature") > 0.0) refuse("thermostat.temperature > 0");
+  if (c.text("srd.device") != "cpu") refuse(fmt::format("srd.device = \"{}\"", c.text("srd.device")));
+  if (record_energy) refuse("the energy ledger");
+  const auto interval = static_cast<std::uint64_t>(run.derived("reorder_interval"));
+  run.step<SrdDomainStep<D>>(*run.communicator(), c.real("srd.time_step"), rotation_from(c), run.seed(),
+                             c.boolean("srd.grid_shift"), interval, state);
+  run.mark_distributed();
+}
+
 // The initial fluid, the cells resource, the box and the step chain.
 template <int D>
 void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = {}, bool record_energy = false) {
@@ -310,7 +336,10 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = 
                             ? static_cast<std::uint64_t>(c.integer("srd.reorder_interval"))
                             : reorder_interval_for(std::sqrt(hottest) * dt);
   run.derive("reorder_interval", static_cast<double>(interval));
-  if (c.text("srd.device") != "cpu") {
+  if (run.communicator() && run.communicator()->size() > 1) {
+    add_domain_step<D>(run, state, force, walled, record_energy);
+    run.derive("ranks", static_cast<double>(run.communicator()->size()));
+  } else if (c.text("srd.device") != "cpu") {
     add_device_step<D>(run, state, n, force, interval, walled);
   } else {
     run.step<SrdStreaming<D>>(dt, rate, force);
