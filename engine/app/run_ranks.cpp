@@ -25,17 +25,34 @@ class MpiCommunicator final : public Communicator {
   int rank() const override { return rank_; }
   int size() const override { return size_; }
 
-  std::vector<double> exchange(int to, const std::vector<double>& send, int from, int channel) const override {
+  Received exchange_with_neighbours(int below, const std::vector<double>& down, int above,
+                                    const std::vector<double>& up, int channel) const override {
     // Sizes first, then the values: a receiver cannot know how many particles cross.
-    long long count = static_cast<long long>(send.size()), incoming = 0;
-    MPI_Sendrecv(&count, 1, MPI_LONG_LONG, to, 2 * channel, &incoming, 1, MPI_LONG_LONG, from, 2 * channel,
-                 MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    if (count > INT_MAX || incoming > INT_MAX)
-      throw std::runtime_error(fmt::format("{} values to exchange between two ranks exceed one MPI message; use more "
-                                           "ranks", std::max(count, incoming)));
-    std::vector<double> received(static_cast<std::size_t>(incoming));
-    MPI_Sendrecv(send.data(), static_cast<int>(count), MPI_DOUBLE, to, 2 * channel + 1, received.data(),
-                 static_cast<int>(incoming), MPI_DOUBLE, from, 2 * channel + 1, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    // Tags tell the downward from the upward messages apart where below == above.
+    const int downward = 4 * channel, upward = 4 * channel + 1;
+    long long send_down = static_cast<long long>(down.size()), send_up = static_cast<long long>(up.size());
+    long long from_above = 0, from_below = 0;
+    MPI_Request sizes[4];
+    MPI_Irecv(&from_above, 1, MPI_LONG_LONG, above, downward, MPI_COMM_WORLD, &sizes[0]);
+    MPI_Irecv(&from_below, 1, MPI_LONG_LONG, below, upward, MPI_COMM_WORLD, &sizes[1]);
+    MPI_Isend(&send_down, 1, MPI_LONG_LONG, below, downward, MPI_COMM_WORLD, &sizes[2]);
+    MPI_Isend(&send_up, 1, MPI_LONG_LONG, above, upward, MPI_COMM_WORLD, &sizes[3]);
+    MPI_Waitall(4, sizes, MPI_STATUSES_IGNORE);
+    if (std::max({send_down, send_up, from_above, from_below}) > INT_MAX)
+      throw std::runtime_error(fmt::format("more than {} values to exchange between two ranks in one message; use "
+                                           "more ranks",
+                                           INT_MAX));
+    Received received;
+    received.from_above.resize(static_cast<std::size_t>(from_above));
+    received.from_below.resize(static_cast<std::size_t>(from_below));
+    MPI_Request values[4];
+    MPI_Irecv(received.from_above.data(), static_cast<int>(from_above), MPI_DOUBLE, above, downward + 2,
+              MPI_COMM_WORLD, &values[0]);
+    MPI_Irecv(received.from_below.data(), static_cast<int>(from_below), MPI_DOUBLE, below, upward + 2,
+              MPI_COMM_WORLD, &values[1]);
+    MPI_Isend(down.data(), static_cast<int>(send_down), MPI_DOUBLE, below, downward + 2, MPI_COMM_WORLD, &values[2]);
+    MPI_Isend(up.data(), static_cast<int>(send_up), MPI_DOUBLE, above, upward + 2, MPI_COMM_WORLD, &values[3]);
+    MPI_Waitall(4, values, MPI_STATUSES_IGNORE);
     return received;
   }
 

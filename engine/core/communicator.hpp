@@ -21,10 +21,15 @@ class Communicator {
   virtual int rank() const = 0;
   virtual int size() const = 0;
 
-  // Sends `send` to rank `to` and returns what rank `from` sent this rank
-  // with the same `channel` (a tag: two channels between one pair of ranks
-  // do not mix).
-  virtual std::vector<double> exchange(int to, const std::vector<double>& send, int from, int channel) const = 0;
+  // What crossed between a rank and its two neighbours on a ring of ranks.
+  struct Received {
+    std::vector<double> from_below, from_above;
+  };
+  // Sends `down` to rank `below` and `up` to rank `above`, both at once, and
+  // returns what they sent this rank: `below`'s up and `above`'s down (they
+  // may be one rank). `channel` keeps separate exchanges apart.
+  virtual Received exchange_with_neighbours(int below, const std::vector<double>& down, int above,
+                                            const std::vector<double>& up, int channel) const = 0;
   // Every rank's `mine`, concatenated in rank order, on every rank.
   virtual std::vector<double> gather_all(const std::vector<double>& mine) const = 0;
   virtual std::int64_t sum(std::int64_t value) const = 0;
@@ -34,12 +39,19 @@ class Communicator {
   virtual bool from_first(bool value) const = 0;
 
   // The signal flag of this process and the one every rank agrees on: a
-  // distributed step calls agree_on_interrupt once per step, and the run
-  // loop watches the agreed flag, so that all ranks stop at the same step.
+  // distributed step agrees on it once per step (sum_agreeing_on_interrupt),
+  // and the run loop watches the agreed flag, so that all ranks stop at the
+  // same step.
   void watch_interrupt(const std::atomic<bool>* local) { local_interrupt_ = local; }
   const std::atomic<bool>* agreed_interrupt() const { return local_interrupt_ ? &agreed_interrupt_ : nullptr; }
-  void agree_on_interrupt() const {
-    if (local_interrupt_) agreed_interrupt_.store(any(local_interrupt_->load()));
+  // sum(count) (count < 2^40 on every rank), agreeing on the interrupt in
+  // the same call: a step that sums something anyway needs no second one.
+  std::int64_t sum_agreeing_on_interrupt(std::int64_t count) const {
+    constexpr std::int64_t flag = std::int64_t{1} << 40;
+    const bool mine = local_interrupt_ && local_interrupt_->load();
+    const std::int64_t total = sum(count + (mine ? flag : 0));
+    if (local_interrupt_) agreed_interrupt_.store(total >= flag);
+    return total % flag;
   }
 
  private:

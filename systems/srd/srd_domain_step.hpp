@@ -9,8 +9,8 @@
 //    owns them now (a particle fast enough to cross a whole slab is passed
 //    on in further rounds);
 //  - the shifted cells that straddle a slab boundary hold particles of two
-//    ranks: each rank receives copies of its neighbours' particles within
-//    one cell of its boundaries (ghosts), so that it reduces and rotates
+//    ranks: each rank receives copies of its neighbours' particles in them
+//    (ghosts, one layer of cells in all), so that it reduces and rotates
 //    those cells over all their particles, as one rank would;
 //  - each cell's random rotation is keyed by its cell of the whole grid
 //    (SrdCells::cell_key), so every rank draws one rank's numbers.
@@ -28,9 +28,11 @@
 // cells as the reduction left them before the rotation, as on one rank. A resumed run scatters that World back by slab,
 // which gives each rank its particles in the order it held them.
 
-#include <spdlog/spdlog.h>
+#include <tbb/parallel_for.h>
 
 #include <array>
+#include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -41,6 +43,7 @@
 #include "components/position.hpp"
 #include "components/velocity.hpp"
 #include "engine/core/communicator.hpp"
+#include "engine/core/profiler.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/view.hpp"
@@ -52,7 +55,7 @@
 #include "systems/srd/rotation.hpp"
 #include "systems/srd/slab_domain.hpp"
 #include "systems/srd/srd_cells.hpp"
-#include "systems/srd/streaming.hpp"
+#include "systems/srd/srd_kernels.hpp"
 
 namespace granflow::srd {
 
@@ -78,10 +81,13 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
       : ranks_(ranks),
         slab_(ranks.rank(), ranks.size(), whole.cells[D - 1]),
         length_(whole.length[D - 1]),
-        streaming_(dt, 0.0),
+        low_(static_cast<double>(slab_.low())),
+        high_(static_cast<double>(slab_.high())),
+        dt_(dt),
         shift_(seed, grid_shift),
         binning_(reorder_interval),
-        rotation_(rotation, seed) {
+        rotation_(rotation, seed),
+        reorder_interval_(reorder_interval) {
     local_.emplace_resource<Clock>();
     local_.emplace_resource<RunControl>();
     std::array<std::int32_t, D> dims = whole.cells;
@@ -105,17 +111,27 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
 
   void run_on(View view) override {
     if (!scattered_) scatter(view);
-    streaming_.run(local_);
-    migrate();
-    shift_.run(local_);
-    add_ghosts();
-    binning_.run(local_);
-    SrdCellReduction<D>::reduce(local_, local_.resource<SrdCells<D>>());
-    rotation_.run(local_);
-    drop(local_.component<DomainGhost>().values, std::uint8_t{1});
+    auto& clock = local_.resource<Clock>();
+    clock.advance(dt_);
+    shift_.run(local_);  // first: it tells which particles are ghosts
+    timed(0, [&] { stream_and_sort_out(); });
+    timed(1, [&] { migrate(); });
+    const std::size_t owned = local_.size();
+    timed(2, [&] { exchange_ghosts(); });
+    timed(3, [&] { binning_.run(local_); });
+    timed(4, [&] { SrdCellReduction<D>::reduce(local_, local_.resource<SrdCells<D>>()); });
+    timed(5, [&] { rotation_.run(local_); });
+    // The ghosts were appended last: unless this step's reordering mixed
+    // them in, dropping them is a truncation.
+    const auto step = static_cast<std::uint64_t>(local_.resource<Clock>().step);
+    timed(6, [&] {
+      if (reorder_interval_ > 0 && step % reorder_interval_ == 0)
+        drop(local_.component<DomainGhost>().values, std::uint8_t{1});
+      else
+        local_.resize(owned);
+    });
     view.template write<Clock>() = local_.resource<Clock>();
     view.template write<SrdCells<D>>().shift = local_.resource<SrdCells<D>>().shift;
-    ranks_.agree_on_interrupt();
     host_current_ = false;
   }
 
@@ -125,8 +141,10 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     if (host_current_ || !scattered_) return;
     std::vector<double> mine;
     mine.reserve(local_.size() * width());
-    for (std::size_t i = 0; i < local_.size(); ++i) pack(i, mine, 0.0);
-    const std::vector<double> all = ranks_.gather_all(mine);
+    const Columns c = columns();
+    for (std::size_t i = 0; i < local_.size(); ++i) pack(c, i, mine, 0.0);
+    std::vector<double> all;
+    timed(7, [&] { all = ranks_.gather_all(mine); });
     const std::size_t n = all.size() / width();
     whole.resize(n);
     auto& x = whole.component<Position<D>>();
@@ -142,7 +160,33 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     host_current_ = true;
   }
 
+  // This rank's time in each part of the step (rank 0's reach the profile).
+  std::vector<ProfileEntry> device_profile() const override {
+    std::vector<ProfileEntry> out;
+    for (std::size_t k = 0; k < phases; ++k)
+      out.push_back({std::string("srd_domain_step.") + phase_names[k], phase_calls_[k], phase_seconds_[k]});
+    return out;
+  }
+
  private:
+  static constexpr std::size_t phases = 9;
+  static constexpr const char* phase_names[phases] = {"streaming", "migration", "ghost_exchange", "binning",
+                                                      "reduction", "rotation",  "ghost_removal",  "gather",
+                                                      "communication"};
+  // The part of migration and ghost exchange spent in MPI, waiting for the
+  // other ranks included.
+  template <class Work>
+  void communicating(Work&& work) {
+    timed(8, std::forward<Work>(work));
+  }
+  template <class Work>
+  void timed(std::size_t phase, Work&& work) {
+    const auto start = std::chrono::steady_clock::now();
+    work();
+    phase_seconds_[phase] += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++phase_calls_[phase];
+  }
+
   std::size_t width() const { return 2 * D + (ids_ ? 1 : 0) + (images_ ? D : 0); }
 
   // This step's cells (as the reduction left them, before the rotation) into
@@ -202,16 +246,27 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     scattered_ = true;
   }
 
+  // The local columns, looked up once per pass rather than per particle.
+  struct Columns {
+    Vec<D>* x;
+    Vec<D>* v;
+    std::uint32_t* id;
+    typename ImageCount<D>::value_type* image;
+  };
+  Columns columns() {
+    return {local_.component<Position<D>>().data(), local_.component<Velocity<D>>().data(),
+            ids_ ? local_.component<ParticleId>().data() : nullptr,
+            images_ ? local_.component<ImageCount<D>>().data() : nullptr};
+  }
+
   // Particle i's columns onto `out`, moved by `offset` along the slab axis
   // (into the frame of the rank across the periodic edge).
-  void pack(std::size_t i, std::vector<double>& out, double offset) const {
-    const auto& x = local_.component<Position<D>>()[i];
-    const auto& v = local_.component<Velocity<D>>()[i];
-    for (int a = 0; a < D; ++a) out.push_back(a == D - 1 ? x[a] + offset : x[a]);
-    for (int a = 0; a < D; ++a) out.push_back(v[a]);
-    if (ids_) out.push_back(local_.component<ParticleId>()[i]);
-    if (images_)
-      for (int a = 0; a < D; ++a) out.push_back(local_.component<ImageCount<D>>()[i][a]);
+  void pack(const Columns& c, std::size_t i, std::vector<double>& out, double offset) const {
+    for (int a = 0; a < D; ++a) out.push_back(a == D - 1 ? c.x[i][a] + offset : c.x[i][a]);
+    for (int a = 0; a < D; ++a) out.push_back(c.v[i][a]);
+    if (c.id) out.push_back(c.id[i]);
+    if (c.image)
+      for (int a = 0; a < D; ++a) out.push_back(c.image[i][a]);
   }
   void unpack(const double* in, Vec<D>& x, Vec<D>& v, ParticleId* id, ImageCount<D>* image, std::size_t i) const {
     for (int a = 0; a < D; ++a) x[a] = in[a];
@@ -259,59 +314,176 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     for (std::size_t j = 0; j < kept.size(); ++j) values[j] = values[kept[j]];
   }
 
-  // Particles that streamed out of the slab go towards their owner, the
-  // short way round the ring of ranks; those that pass a rank on their way
-  // are sent on in the next round.
-  void migrate() {
-    while (true) {
-      std::vector<double> up, down;
-      std::vector<std::uint8_t> leaving(local_.size(), 0);
-      const auto& x = local_.component<Position<D>>();
-      for (std::size_t i = 0; i < local_.size(); ++i) {
-        const int owner = slab_.owner(x[i][D - 1]);
-        if (owner == slab_.rank) continue;
-        const int ahead = (owner - slab_.rank + slab_.ranks) % slab_.ranks;
-        pack(i, 2 * ahead <= slab_.ranks ? up : down, 0.0);
-        leaving[i] = 1;
+  // Streams every particle (the periodic streaming of streaming.hpp) and in
+  // the same pass, while the particle is in cache, notes which leave the
+  // slab and which the neighbours need as ghosts: per fixed chunk, so that
+  // the lists come out in particle order on any thread count.
+  void stream_and_sort_out() {
+    const auto& cells = local_.resource<SrdCells<D>>();
+    const double shift = cells.shift[D - 1];
+    const double part_below = shift - std::floor(shift);
+    // The shifted cell that straddles a slab boundary reaches part_below =
+    // frac(shift) below it and 1 - part_below above it (none straddles when
+    // the shift is a whole number of cells). A particle within round-off of
+    // its far edge is sent too: there it falls into a cell that holds none
+    // of the receiver's own.
+    constexpr double margin = 1e-9;
+    ghost_below_edge_ = part_below > 0.0 ? low_ + (1.0 - part_below) + margin : low_;
+    ghost_above_edge_ = part_below > 0.0 ? high_ - part_below - margin : high_;
+    const Columns c = columns();
+    const std::size_t n = local_.size();
+    constexpr std::size_t chunk = 4096;
+    const std::size_t chunks = (n + chunk - 1) / chunk;
+    sorted_out_.resize(chunks);
+    const double dt = dt_;
+    const double* length = cells.length.data();
+    const Shear none;
+    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
+      auto& lists = sorted_out_[k];
+      lists.leaving.clear();
+      lists.below.clear();
+      lists.above.clear();
+      for (std::size_t i = k * chunk; i < std::min(n, (k + 1) * chunk); ++i) {
+        double* x = c.x[i].data();
+        if (c.image)
+          stream_particle<D, true>(x, c.v[i].data(), dt, length, none, c.image[i].data());
+        else
+          stream_particle<D>(x, c.v[i].data(), dt, length, none);
+        const double z = x[D - 1];
+        if (!(z >= low_ && z < high_) && slab_.owner(z) != slab_.rank) {
+          lists.leaving.push_back(i);
+          continue;
+        }
+        if (z < ghost_below_edge_) lists.below.push_back(i);
+        if (z >= ghost_above_edge_) lists.above.push_back(i);
       }
-      drop(leaving, std::uint8_t{1});
-      const std::size_t before = local_.size();
-      append(ranks_.exchange(slab_.above(), up, slab_.below(), 0), 0);
-      append(ranks_.exchange(slab_.below(), down, slab_.above(), 1), 0);
-      bool passing = false;
-      for (std::size_t i = before; i < local_.size(); ++i)
-        passing = passing || slab_.owner(local_.component<Position<D>>()[i][D - 1]) != slab_.rank;
-      if (!ranks_.any(passing)) return;
-    }
+    });
   }
 
-  // Copies of the neighbours' particles within one cell of this slab's
-  // boundaries: every particle of a shifted cell that straddles one.
-  void add_ghosts() {
-    std::vector<double> to_below, to_above;
-    const auto& x = local_.component<Position<D>>();
-    const double low = static_cast<double>(slab_.low()), high = static_cast<double>(slab_.high());
-    for (std::size_t i = 0; i < local_.size(); ++i) {
-      const double z = x[i][D - 1];
-      if (z < low + 1.0) pack(i, to_below, slab_.rank == 0 ? length_ : 0.0);
-      if (z >= high - 1.0) pack(i, to_above, slab_.rank == slab_.ranks - 1 ? -length_ : 0.0);
+  // Particles that streamed out of the slab go towards their owner, the
+  // short way round the ring of ranks; those that pass a rank on their way
+  // are sent on in the next round. The same pass picks the ghosts the
+  // neighbours need (ghost_candidate), so the particles are read once.
+  void migrate() {
+    to_below_.clear();
+    to_above_.clear();
+    std::vector<double> up, down;
+    std::vector<std::size_t> gone;
+    {  // the first round's lists come from the streaming pass
+      const Columns c = columns();
+      for (const auto& lists : sorted_out_) {
+        for (const std::size_t i : lists.below) pack(c, i, to_below_, slab_.rank == 0 ? length_ : 0.0);
+        for (const std::size_t i : lists.above) pack(c, i, to_above_, slab_.rank == slab_.ranks - 1 ? -length_ : 0.0);
+        for (const std::size_t i : lists.leaving) {
+          const int ahead = (slab_.owner(c.x[i][D - 1]) - slab_.rank + slab_.ranks) % slab_.ranks;
+          pack(c, i, 2 * ahead <= slab_.ranks ? up : down, 0.0);
+          gone.push_back(i);
+        }
+      }
     }
-    append(ranks_.exchange(slab_.below(), to_below, slab_.above(), 2), 1);
-    append(ranks_.exchange(slab_.above(), to_above, slab_.below(), 3), 1);
+    std::size_t first = local_.size();  // the first particle not read yet: arrivals are read in the next round
+    while (true) {
+      const Columns c = columns();
+      for (std::size_t i = first; i < local_.size(); ++i) {
+        const double z = c.x[i][D - 1];
+        if (z >= low_ && z < high_) {
+          ghost_candidate(c, i, z);
+          continue;
+        }
+        const int owner = slab_.owner(z);
+        if (owner == slab_.rank) {  // on the far edge by round-off
+          ghost_candidate(c, i, z);
+          continue;
+        }
+        const int ahead = (owner - slab_.rank + slab_.ranks) % slab_.ranks;
+        pack(c, i, 2 * ahead <= slab_.ranks ? up : down, 0.0);
+        gone.push_back(i);
+      }
+      remove(gone);
+      first = local_.size();
+      Communicator::Received arrived;
+      communicating([&] { arrived = ranks_.exchange_with_neighbours(slab_.below(), down, slab_.above(), up, 0); });
+      append(arrived.from_below, 0);
+      append(arrived.from_above, 0);
+      up.clear();
+      down.clear();
+      gone.clear();
+      std::int64_t passing = 0;
+      const Columns after = columns();
+      for (std::size_t i = first; i < local_.size(); ++i) passing += slab_.owner(after.x[i][D - 1]) != slab_.rank;
+      // Once per round on every rank: the place to agree on a signal too.
+      std::int64_t passing_anywhere = 0;
+      communicating([&] { passing_anywhere = ranks_.sum_agreeing_on_interrupt(passing); });
+      if (passing_anywhere == 0) break;
+    }
+    const Columns c = columns();
+    for (std::size_t i = first; i < local_.size(); ++i) ghost_candidate(c, i, c.x[i][D - 1]);
+  }
+
+  // This rank's particles in a shifted cell that straddles a slab boundary
+  // go to the neighbour across it.
+  void ghost_candidate(const Columns& c, std::size_t i, double z) {
+    if (z < ghost_below_edge_) pack(c, i, to_below_, slab_.rank == 0 ? length_ : 0.0);
+    if (z >= ghost_above_edge_) pack(c, i, to_above_, slab_.rank == slab_.ranks - 1 ? -length_ : 0.0);
+  }
+
+  // Removes the particles at `gone` (ascending) by moving the last ones into
+  // their places: a few particles leave a slab per step, and this moves no
+  // more than that many.
+  void remove(const std::vector<std::size_t>& gone) {
+    if (gone.empty()) return;
+    leaving_.assign(local_.size(), 0);
+    for (const std::size_t i : gone) leaving_[i] = 1;
+    Columns c = columns();
+    auto* ghost = local_.component<DomainGhost>().data();
+    std::size_t end = local_.size();
+    for (const std::size_t hole : gone) {
+      if (hole >= end) break;
+      do --end;
+      while (end > hole && leaving_[end]);
+      if (end == hole) break;
+      c.x[hole] = c.x[end];
+      c.v[hole] = c.v[end];
+      ghost[hole] = ghost[end];
+      if (c.id) c.id[hole] = c.id[end];
+      if (c.image) c.image[hole] = c.image[end];
+    }
+    local_.resize(end);
+  }
+
+  // The copies migrate() picked go to the neighbours; theirs come in as ghosts.
+  void exchange_ghosts() {
+    Communicator::Received ghosts;
+    communicating([&] { ghosts = ranks_.exchange_with_neighbours(slab_.below(), to_below_, slab_.above(), to_above_, 1); });
+    append(ghosts.from_above, 1);
+    append(ghosts.from_below, 1);
   }
 
   const Communicator& ranks_;
   SlabDomain slab_;
   double length_;  // of the periodic box along the slab axis
+  double low_, high_;  // this rank's slab
+  double ghost_below_edge_ = 0.0, ghost_above_edge_ = 0.0;  // this step's: particles below / above go as ghosts
   World local_;
-  SrdStreaming<D> streaming_;
+  double dt_;
   SrdGridShift<D> shift_;
   SrdCellBinning<D> binning_;
   SrdRotation<D> rotation_;
   bool ids_ = false;
   bool images_ = false;
+  std::uint64_t reorder_interval_;
   bool scattered_ = false;
   bool host_current_ = true;
+  std::vector<std::uint8_t> leaving_;  // per particle, reused: marks those migrating this round
+  std::vector<double> to_below_, to_above_;  // this step's ghosts for the neighbours, packed
+  // Per chunk of particles, from the streaming pass: those leaving the slab
+  // and those the neighbour below / above needs as ghosts.
+  struct SortedOut {
+    std::vector<std::size_t> leaving, below, above;
+  };
+  std::vector<SortedOut> sorted_out_;
+  std::array<double, phases> phase_seconds_{};
+  std::array<std::uint64_t, phases> phase_calls_{};
 };
 
 }  // namespace granflow::srd
