@@ -117,7 +117,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     timed(0, [&] { stream_and_sort_out(); });
     timed(1, [&] { migrate(); });
     const std::size_t owned = local_.size();
-    timed(2, [&] { exchange_ghosts(); });
+    timed(2, [&] { add_ghosts(); });
     timed(3, [&] { binning_.run(local_); });
     timed(4, [&] { SrdCellReduction<D>::reduce(local_, local_.resource<SrdCells<D>>()); });
     timed(5, [&] { rotation_.run(local_); });
@@ -330,6 +330,9 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     constexpr double margin = 1e-9;
     ghost_below_edge_ = part_below > 0.0 ? low_ + (1.0 - part_below) + margin : low_;
     ghost_above_edge_ = part_below > 0.0 ? high_ - part_below - margin : high_;
+    // This rank's own straddling cells beyond its slab (nothing where none straddles).
+    keep_below_edge_ = part_below > 0.0 ? low_ - part_below - margin : low_;
+    keep_above_edge_ = part_below > 0.0 ? high_ + (1.0 - part_below) + margin : high_;
     const Columns c = columns();
     const std::size_t n = local_.size();
     constexpr std::size_t chunk = 4096;
@@ -361,70 +364,104 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   }
 
   // Particles that streamed out of the slab go towards their owner, the
-  // short way round the ring of ranks; those that pass a rank on their way
-  // are sent on in the next round. The same pass picks the ghosts the
-  // neighbours need (ghost_candidate), so the particles are read once.
+  // short way round the ring of ranks, in one message per neighbour with
+  // the ghosts that neighbour needs: [migrant count, migrants, ghosts].
+  // Most ghosts were picked in the streaming pass. A rank keeps a copy of a
+  // particle it sends away into its own straddling cells (the receiver
+  // cannot know it needs sending back), and an arrival that lands in the
+  // straddling cells of the neighbour on the far side, or is only passing
+  // through, goes on in a further round, which every rank agrees on.
   void migrate() {
     to_below_.clear();
     to_above_.clear();
+    arrived_ghosts_.clear();
+    kept_.clear();
     std::vector<double> up, down;
     std::vector<std::size_t> gone;
-    {  // the first round's lists come from the streaming pass
+    {
       const Columns c = columns();
       for (const auto& lists : sorted_out_) {
         for (const std::size_t i : lists.below) pack(c, i, to_below_, slab_.rank == 0 ? length_ : 0.0);
         for (const std::size_t i : lists.above) pack(c, i, to_above_, slab_.rank == slab_.ranks - 1 ? -length_ : 0.0);
-        for (const std::size_t i : lists.leaving) {
-          const int ahead = (slab_.owner(c.x[i][D - 1]) - slab_.rank + slab_.ranks) % slab_.ranks;
-          pack(c, i, 2 * ahead <= slab_.ranks ? up : down, 0.0);
-          gone.push_back(i);
-        }
+        for (const std::size_t i : lists.leaving) send_away(c, i, up, down, gone);
       }
     }
-    std::size_t first = local_.size();  // the first particle not read yet: arrivals are read in the next round
     while (true) {
+      remove(gone);
+      gone.clear();
+      const std::size_t first = local_.size();
+      Communicator::Received arrived;
+      communicating([&] {
+        arrived = ranks_.exchange_with_neighbours(slab_.below(), message(down, to_below_), slab_.above(),
+                                                  message(up, to_above_), 0);
+      });
+      const std::size_t from_below = take_message(arrived.from_below);
+      take_message(arrived.from_above);
+      up.clear();
+      down.clear();
+      to_below_.clear();
+      to_above_.clear();
+      std::int64_t pending = 0;
       const Columns c = columns();
       for (std::size_t i = first; i < local_.size(); ++i) {
         const double z = c.x[i][D - 1];
-        if (z >= low_ && z < high_) {
-          ghost_candidate(c, i, z);
+        if (!(z >= low_ && z < high_) && slab_.owner(z) != slab_.rank) {
+          send_away(c, i, up, down, gone);
+          ++pending;
           continue;
         }
-        const int owner = slab_.owner(z);
-        if (owner == slab_.rank) {  // on the far edge by round-off
-          ghost_candidate(c, i, z);
-          continue;
+        // The neighbour it came from kept its own copy; on two ranks that
+        // is the only neighbour.
+        if (slab_.ranks == 2) continue;
+        if (i < first + from_below && z >= ghost_above_edge_) {
+          pack(c, i, to_above_, slab_.rank == slab_.ranks - 1 ? -length_ : 0.0);
+          ++pending;
         }
-        const int ahead = (owner - slab_.rank + slab_.ranks) % slab_.ranks;
-        pack(c, i, 2 * ahead <= slab_.ranks ? up : down, 0.0);
-        gone.push_back(i);
+        if (i >= first + from_below && z < ghost_below_edge_) {
+          pack(c, i, to_below_, slab_.rank == 0 ? length_ : 0.0);
+          ++pending;
+        }
       }
-      remove(gone);
-      first = local_.size();
-      Communicator::Received arrived;
-      communicating([&] { arrived = ranks_.exchange_with_neighbours(slab_.below(), down, slab_.above(), up, 0); });
-      append(arrived.from_below, 0);
-      append(arrived.from_above, 0);
-      up.clear();
-      down.clear();
-      gone.clear();
-      std::int64_t passing = 0;
-      const Columns after = columns();
-      for (std::size_t i = first; i < local_.size(); ++i) passing += slab_.owner(after.x[i][D - 1]) != slab_.rank;
       // Once per round on every rank: the place to agree on a signal too.
-      std::int64_t passing_anywhere = 0;
-      communicating([&] { passing_anywhere = ranks_.sum_agreeing_on_interrupt(passing); });
-      if (passing_anywhere == 0) break;
+      std::int64_t pending_anywhere = 0;
+      communicating([&] { pending_anywhere = ranks_.sum_agreeing_on_interrupt(pending); });
+      if (pending_anywhere == 0) return;
     }
-    const Columns c = columns();
-    for (std::size_t i = first; i < local_.size(); ++i) ghost_candidate(c, i, c.x[i][D - 1]);
   }
 
-  // This rank's particles in a shifted cell that straddles a slab boundary
-  // go to the neighbour across it.
-  void ghost_candidate(const Columns& c, std::size_t i, double z) {
-    if (z < ghost_below_edge_) pack(c, i, to_below_, slab_.rank == 0 ? length_ : 0.0);
-    if (z >= ghost_above_edge_) pack(c, i, to_above_, slab_.rank == slab_.ranks - 1 ? -length_ : 0.0);
+  // Particle i leaves towards its owner; a copy stays if it lies in this
+  // rank's own straddling cells.
+  void send_away(const Columns& c, std::size_t i, std::vector<double>& up, std::vector<double>& down,
+                 std::vector<std::size_t>& gone) {
+    const double z = c.x[i][D - 1];
+    const int ahead = (slab_.owner(z) - slab_.rank + slab_.ranks) % slab_.ranks;
+    const bool upward = 2 * ahead <= slab_.ranks;
+    pack(c, i, upward ? up : down, 0.0);
+    gone.push_back(i);
+    // Where it is seen from this slab, below it or above it (across the
+    // periodic edge where need be; on two ranks either way round).
+    const double below = z >= low_ ? z - length_ : z, above = z < high_ ? z + length_ : z;
+    if (below >= keep_below_edge_) pack(c, i, kept_, below - z);
+    if (above < keep_above_edge_) pack(c, i, kept_, above - z);
+  }
+
+  std::vector<double> message(const std::vector<double>& migrants, const std::vector<double>& ghosts) const {
+    std::vector<double> out;
+    out.reserve(1 + migrants.size() + ghosts.size());
+    out.push_back(static_cast<double>(migrants.size() / width()));
+    out.insert(out.end(), migrants.begin(), migrants.end());
+    out.insert(out.end(), ghosts.begin(), ghosts.end());
+    return out;
+  }
+  // Appends a message's migrants as this rank's own and sets its ghosts
+  // aside; returns the number of migrants.
+  std::size_t take_message(const std::vector<double>& in) {
+    if (in.empty()) return 0;
+    const auto migrants = static_cast<std::size_t>(in[0]);
+    const auto split = in.begin() + 1 + static_cast<std::ptrdiff_t>(migrants * width());
+    append(std::vector<double>(in.begin() + 1, split), 0);
+    arrived_ghosts_.insert(arrived_ghosts_.end(), split, in.end());
+    return migrants;
   }
 
   // Removes the particles at `gone` (ascending) by moving the last ones into
@@ -451,12 +488,10 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     local_.resize(end);
   }
 
-  // The copies migrate() picked go to the neighbours; theirs come in as ghosts.
-  void exchange_ghosts() {
-    Communicator::Received ghosts;
-    communicating([&] { ghosts = ranks_.exchange_with_neighbours(slab_.below(), to_below_, slab_.above(), to_above_, 1); });
-    append(ghosts.from_above, 1);
-    append(ghosts.from_below, 1);
+  // The ghosts that came with the migrants, and the copies this rank kept.
+  void add_ghosts() {
+    append(arrived_ghosts_, 1);
+    append(kept_, 1);
   }
 
   const Communicator& ranks_;
@@ -464,6 +499,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   double length_;  // of the periodic box along the slab axis
   double low_, high_;  // this rank's slab
   double ghost_below_edge_ = 0.0, ghost_above_edge_ = 0.0;  // this step's: particles below / above go as ghosts
+  double keep_below_edge_ = 0.0, keep_above_edge_ = 0.0;    // this step's: leavers beyond them stay as ghosts
   World local_;
   double dt_;
   SrdGridShift<D> shift_;
@@ -475,7 +511,8 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   bool scattered_ = false;
   bool host_current_ = true;
   std::vector<std::uint8_t> leaving_;  // per particle, reused: marks those migrating this round
-  std::vector<double> to_below_, to_above_;  // this step's ghosts for the neighbours, packed
+  std::vector<double> to_below_, to_above_;  // this round's ghosts for the neighbours, packed
+  std::vector<double> arrived_ghosts_, kept_;  // this step's ghosts: the neighbours' and this rank's copies
   // Per chunk of particles, from the streaming pass: those leaving the slab
   // and those the neighbour below / above needs as ghosts.
   struct SortedOut {
