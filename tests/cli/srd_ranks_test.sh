@@ -64,6 +64,13 @@ for k in 2 3; do
   ranks "$k" run "$cooling" "${two_d[@]}" -o "$work/ranks${k}_2d.h5" || fail "$k ranks (2D) exited with $?"
   agree "$work/one_2d.h5" "$work/ranks${k}_2d.h5" 1e-9
 done
+# Slabs one cell thick and a hot fluid (a particle moves 0.55 cells a step):
+# particles cross whole slabs and land in the far neighbour's straddling
+# cells, which takes further rounds of the exchange.
+thin=(--set 'system.cells=[8,8,3]' --set srd.temperature=3000 --set run.steps=300 -q)
+"$granflow" run "$cooling" "${thin[@]}" -o "$work/one_thin.h5" || fail "one rank (thin) exited with $?"
+ranks 3 run "$cooling" "${thin[@]}" -o "$work/ranks3_thin.h5" || fail "3 ranks (thin) exited with $?"
+agree "$work/one_thin.h5" "$work/ranks3_thin.h5" 1e-9
 /usr/bin/python3 -c "
 import h5py, sys
 f = h5py.File('$work/ranks3_3d.h5', 'r')
