@@ -82,16 +82,6 @@ class MpiCommunicator final : public Communicator {
     MPI_Allreduce(&in, &out, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
     return out;
   }
-  double sum(double value) const override {
-    double out = 0.0;
-    MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-    return out;
-  }
-  bool any(bool value) const override {
-    int in = value ? 1 : 0, out = 0;
-    MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-    return out != 0;
-  }
   bool from_first(bool value) const override {
     int flag = value ? 1 : 0;
     MPI_Bcast(&flag, 1, MPI_INT, 0, MPI_COMM_WORLD);

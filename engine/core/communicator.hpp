@@ -33,8 +33,6 @@ class Communicator {
   // Every rank's `mine`, concatenated in rank order, on every rank.
   virtual std::vector<double> gather_all(const std::vector<double>& mine) const = 0;
   virtual std::int64_t sum(std::int64_t value) const = 0;
-  virtual double sum(double value) const = 0;
-  virtual bool any(bool value) const = 0;
   // Rank 0's value on every rank.
   virtual bool from_first(bool value) const = 0;
 

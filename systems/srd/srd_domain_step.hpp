@@ -1,9 +1,10 @@
 #pragma once
 // The SRD step of one periodic system spread over the ranks of an MPI job
 // (`mpirun -np K granflow run`): each rank owns the particles of one slab of
-// cells along the last axis (slab_domain.hpp) and steps them with the same
-// systems one rank runs (streaming, grid shift, binning, reduction,
-// rotation), on a grid of its slab and two layers either side. Per step:
+// cells along the last axis (slab_domain.hpp) and steps them with what one
+// rank runs (the streaming kernel, the grid shift, binning, reduction and
+// rotation systems), on a grid of its slab and two layers either side. Per
+// step:
 //
 //  - streaming, then the particles that left the slab go to the rank that
 //    owns them now (a particle fast enough to cross a whole slab is passed
@@ -25,8 +26,9 @@
 // Observers and checkpoints read the World, which here is the whole system:
 // synchronise_host gathers every rank's particles into it, in rank order, on
 // every rank (so observers decide the same everywhere), with this step's
-// cells as the reduction left them before the rotation, as on one rank. A resumed run scatters that World back by slab,
-// which gives each rank its particles in the order it held them.
+// cells as the reduction left them before the rotation, as on one rank. A
+// resumed run scatters that World back by slab, which gives each rank its
+// particles in the order it held them.
 
 #include <tbb/parallel_for.h>
 
@@ -48,7 +50,6 @@
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
-#include "engine/run/run_control.hpp"
 #include "systems/srd/cell_binning.hpp"
 #include "systems/srd/cell_reduction.hpp"
 #include "systems/srd/grid_shift.hpp"
@@ -69,7 +70,7 @@ struct DomainGhost : Column<std::uint8_t> {
 };
 
 template <int D>
-using SrdDomainStepBase = SystemOf<Reads<>, Writes<EveryColumn, Clock, SrdCells<D>, RunControl>>;
+using SrdDomainStepBase = SystemOf<Reads<>, Writes<EveryColumn, Clock, SrdCells<D>>>;
 
 template <int D>
 class SrdDomainStep : public SrdDomainStepBase<D> {
@@ -89,7 +90,6 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
         rotation_(rotation, seed),
         reorder_interval_(reorder_interval) {
     local_.emplace_resource<Clock>();
-    local_.emplace_resource<RunControl>();
     std::array<std::int32_t, D> dims = whole.cells;
     const auto low = slab_.low(), width = slab_.high() - slab_.low();
     dims[D - 1] = static_cast<std::int32_t>(width + 4);
