@@ -469,15 +469,20 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   // more than that many.
   void remove(const std::vector<std::size_t>& gone) {
     if (gone.empty()) return;
-    leaving_.assign(local_.size(), 0);
-    for (const std::size_t i : gone) leaving_[i] = 1;
+    // Whether particle i leaves too, for i falling from the end: `gone` is
+    // ascending, so its tail is read once, not marked in a column of all.
+    std::size_t tail = gone.size();
+    const auto leaves = [&](std::size_t i) {
+      while (tail > 0 && gone[tail - 1] > i) --tail;
+      return tail > 0 && gone[tail - 1] == i;
+    };
     Columns c = columns();
     auto* ghost = local_.component<DomainGhost>().data();
     std::size_t end = local_.size();
     for (const std::size_t hole : gone) {
       if (hole >= end) break;
       do --end;
-      while (end > hole && leaving_[end]);
+      while (end > hole && leaves(end));
       if (end == hole) break;
       c.x[hole] = c.x[end];
       c.v[hole] = c.v[end];
@@ -510,7 +515,6 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   std::uint64_t reorder_interval_;
   bool scattered_ = false;
   bool host_current_ = true;
-  std::vector<std::uint8_t> leaving_;  // per particle, reused: marks those migrating this round
   std::vector<double> to_below_, to_above_;  // this round's ghosts for the neighbours, packed
   std::vector<double> arrived_ghosts_, kept_;  // this step's ghosts: the neighbours' and this rank's copies
   // Per chunk of particles, from the streaming pass: those leaving the slab
