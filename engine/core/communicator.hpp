@@ -10,6 +10,7 @@
 // before any rank acts on it.
 
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -35,6 +36,17 @@ class Communicator {
   virtual std::int64_t sum(std::int64_t value) const = 0;
   // Rank 0's value on every rank.
   virtual bool from_first(bool value) const = 0;
+
+  // The element-wise sum of every rank's `mine` (all of one length), added
+  // in rank order: the same bits on every rank and for every run on this
+  // many ranks, whatever order the MPI library would reduce in.
+  std::vector<double> add_across(const std::vector<double>& mine) const {
+    const std::vector<double> all = gather_all(mine);
+    std::vector<double> total(mine.size(), 0.0);
+    for (std::size_t r = 0; r + mine.size() <= all.size() && !mine.empty(); r += mine.size())
+      for (std::size_t k = 0; k < mine.size(); ++k) total[k] += all[r + k];
+    return total;
+  }
 
   // The signal flag of this process and the one every rank agrees on: a
   // distributed step agrees on it once per step (sum_agreeing_on_interrupt),

@@ -111,7 +111,7 @@ class SrdCellReduction : public SystemOf<Reads<Clock, Position<D>, Velocity<D>, 
           }
           if (!cells.walls.empty())
             for (std::uint32_t c = begin; c < end; ++c)
-              cells.ghosts[c] = fill_cut_cell<D>(cells.sums[c], cells.count[c], c, cuts, cut_count, cells.walls.data(),
+              cells.ghosts[c] = fill_cut_cell<D>(cells.sums[c], cells.count[c], c, cells.cell_key(c), cuts, cut_count, cells.walls.data(),
                                                  cells.cells.data(), cells.ghost_fill, time, cells.particle_mass,
                                                  cells.seed, step);
           for (std::uint32_t c = begin; c < end; ++c) {

@@ -140,6 +140,7 @@ class SrdRotation : public SystemOf<Reads<Clock>, Writes<Velocity<D>, SrdCells<D
           const CellCollision& collision = collisions_[cell[i]];
           collide_particle<D>(vi, collision.matrix, collision.mean, image ? -image[i] * image_speed : 0.0);
           for (int a = 0; a < D; ++a) after += vi[a] * vi[a];
+          if (cells.copies && cells.copies[i]) continue;
           (ghosts && ghosts[cell[i]] > 0 ? ghosted : plain) += 0.5 * (after - before);
         }
         chunk_energy_[2 * k] = plain;

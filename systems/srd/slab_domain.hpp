@@ -1,8 +1,7 @@
 #pragma once
-// How an SRD grid is split over K ranks: slabs of whole cells along the
-// last axis (the slowest index, so that one rank's cells are one contiguous
-// range of the whole grid's), rank r owning the particles whose coordinate
-// along it lies in [low(r), low(r + 1)). The slabs differ by at most one
+// How an SRD grid is split over K ranks: slabs of whole cells along one
+// periodic axis (srd_setup.hpp picks it), rank r owning the particles whose
+// coordinate along it lies in [low(r), low(r + 1)). The slabs differ by at most one
 // cell, so that ranks of a homogeneous fluid carry equal work.
 
 #include <fmt/format.h>
@@ -20,11 +19,13 @@ struct SlabDomain {
   int ranks = 1;
   std::int64_t cells = 1;  // of the whole grid along the slab axis
 
-  SlabDomain(int this_rank, int rank_count, std::int64_t cells_along) : rank(this_rank), ranks(rank_count), cells(cells_along) {
+  // axis_name: of the slab axis, for the message.
+  SlabDomain(int this_rank, int rank_count, std::int64_t cells_along, const char* axis_name)
+      : rank(this_rank), ranks(rank_count), cells(cells_along) {
     if (ranks > cells)
-      throw ConfigError(fmt::format("{} ranks cannot split {} cells along the last axis of system.cells: a rank's slab "
-                                    "must hold at least one whole cell; use at most {} ranks or more cells",
-                                    ranks, cells, cells));
+      throw ConfigError(fmt::format("{} ranks cannot split {} cells along {} (system.cells): a rank's slab must hold "
+                                    "at least one whole cell; use at most {} ranks or more cells",
+                                    ranks, cells, axis_name, cells));
   }
 
   std::int64_t low_of(int r) const { return cells * r / ranks; }

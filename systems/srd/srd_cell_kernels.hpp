@@ -105,11 +105,12 @@ GRANFLOW_HD inline int find_cut_layers(const Wall* walls, int wall_count, const 
 
 // Fills cell c of `members` particles, if a cut layer holds it and it has
 // fewer than `fill`, up to that many with ghost particles keyed by (seed,
-// step, c); a cell cut by two walls (a corner) takes the first one's.
+// step, key), key being the cell's number in the whole grid
+// (SrdCells::cell_key); a cell cut by two walls (a corner) takes the first one's.
 // Returns how many ghosts it added.
 template <int D>
 GRANFLOW_HD inline std::uint32_t fill_cut_cell(CellSums<D>& sums, std::uint32_t members, std::uint32_t c,
-                                               const CutLayer* cuts, int cut_count, const Wall* walls,
+                                               std::uint64_t key, const CutLayer* cuts, int cut_count, const Wall* walls,
                                                const std::int32_t* cells, double fill, double time,
                                                double particle_mass, std::uint64_t seed, std::uint64_t step) {
   for (int q = 0; q < cut_count; ++q) {
@@ -119,7 +120,7 @@ GRANFLOW_HD inline std::uint32_t fill_cut_cell(CellSums<D>& sums, std::uint32_t 
     if (static_cast<std::int64_t>((c / cut.stride) % along) != cut.layer) continue;
     const int missing = ghost_count(members, fill);
     if (missing == 0) return 0;
-    add_ghosts_to_sums<D>(sums, missing, wall, time, particle_mass, seed, step, c);
+    add_ghosts_to_sums<D>(sums, missing, wall, time, particle_mass, seed, step, key);
     return static_cast<std::uint32_t>(missing);
   }
   return 0;

@@ -107,6 +107,10 @@ struct SrdCells {
   double step_wall_work = 0.0;
   double step_collision_energy = 0.0;
   double step_ghost_cell_energy = 0.0;
+  // Where set (one rank's part of a system spread over ranks): per
+  // particle, nonzero for a copy of another rank's particle, whose energy
+  // change that rank books.
+  const std::uint8_t* copies = nullptr;
 
   // cells_per_axis: the box; `box_walls` end the axes they are on, whose grid
   // then spans the walls' whole motion and one layer beyond.
@@ -144,9 +148,32 @@ struct SrdCells {
   // The number cell c's random numbers are keyed by: c itself, or on one
   // rank's part of a grid spread over ranks (srd_domain_step.hpp), the cell
   // of the whole grid it is, so that every rank draws what one rank would.
-  std::uint64_t key_offset = 0;
-  std::uint64_t key_period = 0;  // 0: the grid is the whole grid
-  std::uint64_t cell_key(std::size_t c) const { return key_period == 0 ? c : (c + key_offset) % key_period; }
+  // The part differs from the whole only along `axis`, where its layer k is
+  // the whole grid's layer (k + first) mod whole_cells.
+  struct PartOfWhole {
+    int axis = -1;  // -1: this grid is the whole grid
+    std::int64_t first = 0;
+    std::int64_t whole_cells = 0;
+  };
+  PartOfWhole part_of_whole;
+  std::uint64_t cell_key(std::size_t c) const {
+    const PartOfWhole& p = part_of_whole;
+    if (p.axis < 0) return c;
+    std::size_t stride = 1;
+    for (int a = 0; a < p.axis; ++a) stride *= static_cast<std::size_t>(cells[a]);
+    const auto along = static_cast<std::size_t>(cells[p.axis]);
+    const std::size_t below = c % stride, layer = (c / stride) % along, above = c / (stride * along);
+    const auto whole = static_cast<std::size_t>(p.whole_cells);
+    const auto shifted = static_cast<std::int64_t>(layer) + p.first;
+    const auto wrapped = static_cast<std::size_t>(((shifted % p.whole_cells) + p.whole_cells) % p.whole_cells);
+    return below + stride * (wrapped + whole * above);
+  }
+  // Layer of cell c along `axis`.
+  std::int64_t layer_of(std::size_t c, int axis) const {
+    std::size_t stride = 1;
+    for (int a = 0; a < axis; ++a) stride *= static_cast<std::size_t>(cells[a]);
+    return static_cast<std::int64_t>((c / stride) % static_cast<std::size_t>(cells[axis]));
+  }
   // Whether cell c of this step's shifted grid lies wholly between the walls
   // at `time` (true along axes without walls).
   bool inside_walls(std::size_t c, double time) const {

@@ -166,7 +166,7 @@ struct ReduceCell {
       }
     }
     const std::uint32_t added =
-        srd::fill_cut_cell<D>(sums, members, c, k.cuts, k.cut_count, s.walls, s.cells, s.ghost_fill, k.step.end_time,
+        srd::fill_cut_cell<D>(sums, members, c, c, k.cuts, k.cut_count, s.walls, s.cells, s.ghost_fill, k.step.end_time,
                               s.particle_mass, s.seed, k.step.step);
     if (ghosts) ghosts[c] = added;
     double drift[D], mean[D], t;

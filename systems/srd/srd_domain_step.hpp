@@ -1,25 +1,32 @@
 #pragma once
-// The SRD step of one periodic system spread over the ranks of an MPI job
+// The SRD step of one system spread over the ranks of an MPI job
 // (`mpirun -np K granflow run`): each rank owns the particles of one slab of
-// cells along the last axis (slab_domain.hpp) and steps them with what one
-// rank runs (the streaming kernel, the grid shift, binning, reduction and
-// rotation systems), on a grid of its slab and two layers either side. Per
-// step:
+// cells along a periodic axis (slab_domain.hpp) and steps them with what one
+// rank runs (the streaming kernels, the grid shift, binning, reduction,
+// rotation and thermostat systems), on a grid of its slab and two layers
+// either side; walls lie across the other axes, so every rank has their
+// whole length and handles them as one rank does. Per step:
 //
-//  - streaming, then the particles that left the slab go to the rank that
+//  - streaming (between the walls, under the body force), then the
+//    particles that left the slab go to the rank that
 //    owns them now (a particle fast enough to cross a whole slab is passed
 //    on in further rounds);
 //  - the shifted cells that straddle a slab boundary hold particles of two
 //    ranks: each rank receives copies of its neighbours' particles in them
 //    (ghosts, one layer of cells in all), so that it reduces and rotates
 //    those cells over all their particles, as one rank would;
-//  - each cell's random rotation is keyed by its cell of the whole grid
-//    (SrdCells::cell_key), so every rank draws one rank's numbers.
+//  - each cell's random rotation, and the wall's ghost particles in a cell
+//    it cuts, are keyed by its cell of the whole grid (SrdCells::cell_key),
+//    so every rank draws one rank's numbers;
+//  - the global thermostat and the energy ledger add the sums of each
+//    rank's own particles and cells (a straddling cell is the rank's that
+//    holds its lower edge) over the ranks, in rank order.
 //
 // What stays the same as on one rank and what does not: the random numbers,
 // the cells and the particles in each are the same; a straddling cell's
-// sums are taken over the same particles in another order, so the results
-// agree to round-off (measured in docs/srd.md), not bit for bit. On the same
+// sums are taken over the same particles in another order, and so are the
+// thermostat's and the ledger's, so the results agree to round-off
+// (measured in docs/srd.md), not bit for bit. On the same
 // number of ranks a run is bit for bit the same on any thread count, and
 // resumes bit for bit.
 //
@@ -57,6 +64,10 @@
 #include "systems/srd/slab_domain.hpp"
 #include "systems/srd/srd_cells.hpp"
 #include "systems/srd/srd_kernels.hpp"
+#include "systems/srd/srd_walls.hpp"
+#include "systems/srd/streaming.hpp"
+#include "systems/srd/thermostat.hpp"
+#include "engine/run/run_control.hpp"
 
 namespace granflow::srd {
 
@@ -69,8 +80,17 @@ struct DomainGhost : Column<std::uint8_t> {
   static constexpr const char* key = "domain_ghost";
 };
 
+// What the step does besides the periodic SRD step.
 template <int D>
-using SrdDomainStepBase = SystemOf<Reads<>, Writes<EveryColumn, Clock, SrdCells<D>>>;
+struct DomainStepPhysics {
+  int axis = D - 1;  // of the slabs: periodic
+  BodyForce<D> force;
+  double thermostat_temperature = 0.0;  // 0: none
+  bool remove_drift = true;             // the thermostat's: false between walls
+};
+
+template <int D>
+using SrdDomainStepBase = SystemOf<Reads<>, Writes<EveryColumn, Clock, SrdCells<D>, RunControl>>;
 
 template <int D>
 class SrdDomainStep : public SrdDomainStepBase<D> {
@@ -78,10 +98,13 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   using View = typename SrdDomainStepBase<D>::View;
 
   SrdDomainStep(const Communicator& ranks, double dt, const RotationParameters& rotation, std::uint64_t seed,
-                bool grid_shift, std::uint64_t reorder_interval, const SrdCells<D>& whole)
+                bool grid_shift, std::uint64_t reorder_interval, const SrdCells<D>& whole,
+                const DomainStepPhysics<D>& physics)
       : ranks_(ranks),
-        slab_(ranks.rank(), ranks.size(), whole.cells[D - 1]),
-        length_(whole.length[D - 1]),
+        axis_(physics.axis),
+        physics_(physics),
+        slab_(ranks.rank(), ranks.size(), whole.cells[physics.axis], axis_names[physics.axis]),
+        length_(whole.length[physics.axis]),
         low_(static_cast<double>(slab_.low())),
         high_(static_cast<double>(slab_.high())),
         dt_(dt),
@@ -90,21 +113,23 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
         rotation_(rotation, seed),
         reorder_interval_(reorder_interval) {
     local_.emplace_resource<Clock>();
-    std::array<std::int32_t, D> dims = whole.cells;
+    // The box, but along the slab axis the slab and two layers either side;
+    // the walls give their axes' grids as on one rank.
+    std::array<std::int32_t, D> dims{};
+    for (int a = 0; a < D; ++a) dims[a] = static_cast<std::int32_t>(whole.length[a]);
     const auto low = slab_.low(), width = slab_.high() - slab_.low();
-    dims[D - 1] = static_cast<std::int32_t>(width + 4);
-    auto& cells = local_.emplace_resource<SrdCells<D>>(dims, 0);
+    dims[axis_] = static_cast<std::int32_t>(width + 4);
+    auto& cells = local_.emplace_resource<SrdCells<D>>(dims, 0, whole.walls);
     cells.length = whole.length;
-    cells.origin[D - 1] = static_cast<double>(low - 2);
-    cells.bounded |= 1u << (D - 1);  // its own grid ends at the halo: no wrap there
+    cells.origin[axis_] = static_cast<double>(low - 2);
+    cells.bounded |= 1u << axis_;  // its own grid ends at the halo: no wrap there
     cells.particle_mass = whole.particle_mass;
     cells.ghost_fill = whole.ghost_fill;
     cells.seed = whole.seed;
-    std::uint64_t stride = 1;
-    for (int a = 0; a + 1 < D; ++a) stride *= static_cast<std::uint64_t>(whole.cells[a]);
-    const auto along = static_cast<std::int64_t>(whole.cells[D - 1]);
-    cells.key_period = stride * static_cast<std::uint64_t>(along);
-    cells.key_offset = static_cast<std::uint64_t>(((low - 2) % along + along) % along) * stride;
+    cells.record_energy = whole.record_energy;
+    cells.part_of_whole = {axis_, low - 2, whole.cells[axis_]};
+    periodic_ = ~whole.bounded;
+    accounts_ = !whole.walls.empty() || whole.record_energy;
   }
 
   std::string name() const override { return "srd_domain_step"; }
@@ -112,15 +137,21 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   void run_on(View view) override {
     if (!scattered_) scatter(view);
     auto& clock = local_.resource<Clock>();
+    const double start = clock.time;
     clock.advance(dt_);
     shift_.run(local_);  // first: it tells which particles are ghosts
-    timed(0, [&] { stream_and_sort_out(); });
+    timed(0, [&] { stream_and_sort_out(start); });
     timed(1, [&] { migrate(); });
     const std::size_t owned = local_.size();
     timed(2, [&] { add_ghosts(); });
     timed(3, [&] { binning_.run(local_); });
     timed(4, [&] { SrdCellReduction<D>::reduce(local_, local_.resource<SrdCells<D>>()); });
-    timed(5, [&] { rotation_.run(local_); });
+    local_.resource<SrdCells<D>>().copies = local_.component<DomainGhost>().data();
+    timed(5, [&] {
+      rotation_.run(local_);
+      if (physics_.thermostat_temperature > 0.0) thermostat();
+    });
+    if (accounts_) account(view);
     // The ghosts were appended last: unless this step's reordering mixed
     // them in, dropping them is a truncation.
     const auto step = static_cast<std::uint64_t>(local_.resource<Clock>().step);
@@ -189,26 +220,27 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
 
   std::size_t width() const { return 2 * D + (ids_ ? 1 : 0) + (images_ ? D : 0); }
 
+  // Whether local cell c is this rank's: its lower edge along the slab axis
+  // lies in the slab. Each cell is one rank's; a straddling one is whole on
+  // that rank, its particles above the slab being the rank's ghosts.
+  bool owns(const SrdCells<D>& local, std::size_t c) const {
+    const double edge = local.origin[axis_] + static_cast<double>(local.layer_of(c, axis_)) - local.shift[axis_];
+    return edge >= low_ && edge < high_;
+  }
+
   // This step's cells (as the reduction left them, before the rotation) into
-  // the whole grid. Each cell comes from the rank that owns its lower edge,
-  // where it is whole: its particles above the slab are that rank's ghosts.
+  // the whole grid, each from the rank that owns it.
   void gather_cells(SrdCells<D>& whole) const {
     const auto& local = local_.resource<SrdCells<D>>();
-    const double s = local.shift[D - 1], low = static_cast<double>(slab_.low()), high = static_cast<double>(slab_.high());
-    std::size_t stride = 1;
-    for (int a = 0; a + 1 < D; ++a) stride *= static_cast<std::size_t>(local.cells[a]);
     constexpr std::size_t record = 4 + D;
     std::vector<double> mine;
-    for (std::int32_t k = 0; k < local.cells[D - 1]; ++k) {
-      const double edge = local.origin[D - 1] + k - s;
-      if (edge < low || edge >= high) continue;
-      for (std::size_t c = k * stride; c < (k + 1) * stride; ++c) {
-        mine.push_back(static_cast<double>(local.cell_key(c)));
-        mine.push_back(local.count[c]);
-        mine.push_back(local.mass[c]);
-        mine.push_back(local.theta[c]);
-        for (int a = 0; a < D; ++a) mine.push_back(local.velocity[c][a]);
-      }
+    for (std::size_t c = 0; c < local.cell_count(); ++c) {
+      if (!owns(local, c)) continue;
+      mine.push_back(static_cast<double>(local.cell_key(c)));
+      mine.push_back(local.count[c]);
+      mine.push_back(local.mass[c]);
+      mine.push_back(local.theta[c]);
+      for (int a = 0; a < D; ++a) mine.push_back(local.velocity[c][a]);
     }
     const std::vector<double> all = ranks_.gather_all(mine);
     for (std::size_t r = 0; r + record <= all.size(); r += record) {
@@ -234,7 +266,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     if (images_) local_.add_component<ImageCount<D>>();
     std::vector<double> mine;
     for (std::size_t i = 0; i < x.size(); ++i) {
-      if (slab_.owner(x[i][D - 1]) != slab_.rank) continue;
+      if (slab_.owner(x[i][axis_]) != slab_.rank) continue;
       for (int a = 0; a < D; ++a) mine.push_back(x[i][a]);
       for (int a = 0; a < D; ++a) mine.push_back(v[i][a]);
       if (ids_) mine.push_back(view.template read<ParticleId>()[i]);
@@ -262,7 +294,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   // Particle i's columns onto `out`, moved by `offset` along the slab axis
   // (into the frame of the rank across the periodic edge).
   void pack(const Columns& c, std::size_t i, std::vector<double>& out, double offset) const {
-    for (int a = 0; a < D; ++a) out.push_back(a == D - 1 ? c.x[i][a] + offset : c.x[i][a]);
+    for (int a = 0; a < D; ++a) out.push_back(a == axis_ ? c.x[i][a] + offset : c.x[i][a]);
     for (int a = 0; a < D; ++a) out.push_back(c.v[i][a]);
     if (c.id) out.push_back(c.id[i]);
     if (c.image)
@@ -318,9 +350,9 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   // the same pass, while the particle is in cache, notes which leave the
   // slab and which the neighbours need as ghosts: per fixed chunk, so that
   // the lists come out in particle order on any thread count.
-  void stream_and_sort_out() {
+  void stream_and_sort_out(double start) {
     const auto& cells = local_.resource<SrdCells<D>>();
-    const double shift = cells.shift[D - 1];
+    const double shift = cells.shift[axis_];
     const double part_below = shift - std::floor(shift);
     // The shifted cell that straddles a slab boundary reaches part_below =
     // frac(shift) below it and 1 - part_below above it (none straddles when
@@ -341,18 +373,29 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     const double dt = dt_;
     const double* length = cells.length.data();
     const Shear none;
+    const bool walled = !cells.walls.empty() || physics_.force.any();
+    const WalledFlight<D> flight{cells.walls.data(), static_cast<int>(cells.walls.size()), periodic_, physics_.force,
+                                 start, dt, length};
+    const bool work = cells.record_energy;
     tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
       auto& lists = sorted_out_[k];
       lists.leaving.clear();
       lists.below.clear();
       lists.above.clear();
+      lists.reflections = lists.stranded = 0;
+      lists.work = 0.0;
       for (std::size_t i = k * chunk; i < std::min(n, (k + 1) * chunk); ++i) {
         double* x = c.x[i].data();
-        if (c.image)
+        if (walled) {
+          const int reflections = flight(x, c.v[i].data(), c.image ? c.image[i].data() : nullptr, work ? &lists.work : nullptr);
+          lists.reflections += static_cast<std::uint64_t>(reflections);
+          lists.stranded += reflections == most_reflections ? 1 : 0;
+        } else if (c.image) {
           stream_particle<D, true>(x, c.v[i].data(), dt, length, none, c.image[i].data());
-        else
+        } else {
           stream_particle<D>(x, c.v[i].data(), dt, length, none);
-        const double z = x[D - 1];
+        }
+        const double z = x[axis_];
         if (!(z >= low_ && z < high_) && slab_.owner(z) != slab_.rank) {
           lists.leaving.push_back(i);
           continue;
@@ -404,7 +447,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
       std::int64_t pending = 0;
       const Columns c = columns();
       for (std::size_t i = first; i < local_.size(); ++i) {
-        const double z = c.x[i][D - 1];
+        const double z = c.x[i][axis_];
         if (!(z >= low_ && z < high_) && slab_.owner(z) != slab_.rank) {
           send_away(c, i, up, down, gone);
           ++pending;
@@ -433,7 +476,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   // rank's own straddling cells.
   void send_away(const Columns& c, std::size_t i, std::vector<double>& up, std::vector<double>& down,
                  std::vector<std::size_t>& gone) {
-    const double z = c.x[i][D - 1];
+    const double z = c.x[i][axis_];
     const int ahead = (slab_.owner(z) - slab_.rank + slab_.ranks) % slab_.ranks;
     const bool upward = 2 * ahead <= slab_.ranks;
     pack(c, i, upward ? up : down, 0.0);
@@ -493,13 +536,53 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     local_.resize(end);
   }
 
+  // The global thermostat over the ranks: each rank's own particles and cells.
+  void thermostat() {
+    auto& cells = local_.resource<SrdCells<D>>();
+    const std::uint8_t* copy = local_.component<DomainGhost>().data();
+    SrdThermostat<D>::rescale(
+        local_.component<Velocity<D>>().data(), nullptr, local_.size(), cells, physics_.thermostat_temperature,
+        physics_.remove_drift, [copy](std::size_t i) { return copy[i] == 0; },
+        [&](std::size_t c) { return owns(cells, c); }, [&](std::vector<double> sums) { return ranks_.add_across(sums); });
+  }
+
+  // The step's wall reflections, stranded particles and energies, added
+  // over the ranks into the whole grid's cells (which the energy ledger and
+  // the observers read) on every rank; a stranded particle on any rank stops
+  // the run on all.
+  void account(View view) {
+    const auto& cells = local_.resource<SrdCells<D>>();
+    std::vector<double> sums(5, 0.0);
+    for (const auto& lists : sorted_out_) {
+      sums[0] += static_cast<double>(lists.reflections);
+      sums[1] += static_cast<double>(lists.stranded);
+      sums[2] += lists.work;
+    }
+    sums[2] *= cells.particle_mass;
+    sums[3] = cells.step_collision_energy;
+    sums[4] = cells.step_ghost_cell_energy;
+    communicating([&] { sums = ranks_.add_across(sums); });
+    auto& whole = view.template write<SrdCells<D>>();
+    whole.wall_reflections += static_cast<std::uint64_t>(sums[0]);
+    whole.step_wall_work = sums[2];
+    whole.step_collision_energy = sums[3];
+    whole.step_ghost_cell_energy = sums[4];
+    const auto& clock = local_.resource<Clock>();
+    if (sums[1] > 0.0)
+      view.template write<RunControl>().fail(
+          stranded_failure(clock.time, clock.step, static_cast<std::uint64_t>(sums[1]), dt_));
+  }
+
   // The ghosts that came with the migrants, and the copies this rank kept.
   void add_ghosts() {
     append(arrived_ghosts_, 1);
     append(kept_, 1);
   }
 
+  static constexpr const char* axis_names[3] = {"x", "y", "z"};
   const Communicator& ranks_;
+  int axis_;
+  DomainStepPhysics<D> physics_;
   SlabDomain slab_;
   double length_;  // of the periodic box along the slab axis
   double low_, high_;  // this rank's slab
@@ -514,6 +597,8 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   bool images_ = false;
   std::uint64_t reorder_interval_;
   bool scattered_ = false;
+  unsigned periodic_ = 0;  // bit a: axis a of the whole box wraps
+  bool accounts_ = false;  // walls or the energy ledger: per-step sums over the ranks
   bool host_current_ = true;
   std::vector<double> to_below_, to_above_;  // this round's ghosts for the neighbours, packed
   std::vector<double> arrived_ghosts_, kept_;  // this step's ghosts: the neighbours' and this rank's copies
@@ -521,6 +606,8 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   // and those the neighbour below / above needs as ghosts.
   struct SortedOut {
     std::vector<std::size_t> leaving, below, above;
+    std::uint64_t reflections = 0, stranded = 0;
+    double work = 0.0;  // by the walls, per unit mass
   };
   std::vector<SortedOut> sorted_out_;
   std::array<double, phases> phase_seconds_{};

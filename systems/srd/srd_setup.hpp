@@ -239,25 +239,36 @@ inline RotationParameters rotation_from(const Config& c) {
 // a periodic fluid without a body force, a thermostat or Lees-Edwards planes,
 // on the CPU; the rest is refused, naming what to change.
 template <int D>
-void add_domain_step(Run& run, const SrdCells<D>& state, const BodyForce<D>& force, bool walled, bool record_energy) {
+void add_domain_step(Run& run, const SrdCells<D>& state, const BodyForce<D>& force, bool walled) {
   const Config& c = run.config();
   const int ranks = run.communicator()->size();
   const auto refuse = [&](const std::string& what) {
-    throw ConfigError(fmt::format("{} is not yet offered over several ranks (this run has {}): one SRD system over "
-                                  "ranks is a periodic fluid without walls, body force, thermostat or shear; run "
-                                  "this one without mpirun",
+    throw ConfigError(fmt::format("{} is not yet offered over several ranks (this run has {}); run this one without "
+                                  "mpirun",
                                   what, ranks));
   };
-  if (walled) refuse("an SRD fluid between walls");
-  if (force.any()) refuse("force.acceleration");
   if (c.real("shear.rate") > 0.0) refuse(fmt::format("shear.rate = {} (Lees-Edwards planes)", c.real("shear.rate")));
-  if (c.real("thermostat.temperature") > 0.0) refuse("thermostat.temperature > 0");
   if (c.text("srd.device") != "cpu") refuse(fmt::format("srd.device = \"{}\"", c.text("srd.device")));
-  if (record_energy) refuse("the energy ledger");
+  // The slabs lie along a periodic axis, the one with the most cells (the
+  // last of equals: the slowest index); walls then span every slab.
+  int axis = -1;
+  for (int a = D - 1; a >= 0; --a)
+    if (!(state.bounded & (1u << a)) && (axis < 0 || state.cells[a] > state.cells[axis])) axis = a;
+  if (axis < 0)
+    throw ConfigError(fmt::format("an SRD fluid with walls across every axis cannot be split over {} ranks: the slabs "
+                                  "need one periodic axis; run it without mpirun",
+                                  ranks));
+  DomainStepPhysics<D> physics;
+  physics.axis = axis;
+  physics.force = force;
+  physics.thermostat_temperature = c.real("thermostat.temperature");
+  physics.remove_drift = !walled;  // as on one rank: walls fix the frame
   const auto interval = static_cast<std::uint64_t>(run.derived("reorder_interval"));
   run.step<SrdDomainStep<D>>(*run.communicator(), c.real("srd.time_step"), rotation_from(c), run.seed(),
-                             c.boolean("srd.grid_shift"), interval, state);
+                             c.boolean("srd.grid_shift"), interval, state, physics);
   run.mark_distributed();
+  run.derive("ranks", static_cast<double>(ranks));
+  run.derive("slab_axis", static_cast<double>(axis));
 }
 
 // The initial fluid, the cells resource, the box and the step chain.
@@ -337,8 +348,7 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = 
                             : reorder_interval_for(std::sqrt(hottest) * dt);
   run.derive("reorder_interval", static_cast<double>(interval));
   if (run.communicator() && run.communicator()->size() > 1) {
-    add_domain_step<D>(run, state, force, walled, record_energy);
-    run.derive("ranks", static_cast<double>(run.communicator()->size()));
+    add_domain_step<D>(run, state, force, walled);
   } else if (c.text("srd.device") != "cpu") {
     add_device_step<D>(run, state, n, force, interval, walled);
   } else {

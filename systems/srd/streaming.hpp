@@ -43,6 +43,33 @@ inline std::string stranded_failure(double time, std::int64_t step, std::uint64_
       time, step, stranded, most_reflections, dt);
 }
 
+// One particle's step where there are walls or a force: the exact flight
+// between the walls (adding their work to *work where that is given), then
+// back into the box along the axes whose bit is set in `periodic`, counted
+// in its image where that is given. Returns its reflections
+// (most_reflections: it could not be streamed exactly).
+template <int D>
+struct WalledFlight {
+  const Wall* walls;
+  int wall_count;
+  unsigned periodic;
+  BodyForce<D> force;
+  double start, dt;
+  const double* length;
+
+  int operator()(double* x, double* v, std::int32_t* image, double* work) const {
+    const double none[D] = {};
+    const double* g = force.acts_at(x) ? force.acceleration : none;
+    const int reflections = stream_between_walls<D>(x, v, g, start, dt, walls, wall_count, work);
+    for (int a = 0; a < D; ++a)
+      if (periodic & (1u << a)) {
+        if (image) image[a] += static_cast<std::int32_t>(periods_out(x[a], length[a]));
+        x[a] = wrapped(x[a], length[a]);
+      }
+    return reflections;
+  }
+};
+
 template <int D>
 class SrdStreaming : public SystemOf<Reads<>, Writes<Position<D>, Velocity<D>, ImageCount<D>, Clock, SrdCells<D>, RunControl>> {
  public:
@@ -89,11 +116,8 @@ class SrdStreaming : public SystemOf<Reads<>, Writes<Position<D>, Velocity<D>, I
       });
       return;
     }
-    const Wall* walls = cells.walls.data();
-    const int wall_count = static_cast<int>(cells.walls.size());
-    const unsigned bounded = cells.bounded;
-    const BodyForce<D> force = force_;
-    const double none[D] = {};
+    const WalledFlight<D> flight{cells.walls.data(), static_cast<int>(cells.walls.size()), ~cells.bounded, force_,
+                                 start, dt, length};
     // Per fixed chunk of particles, so that the sum of the walls' work does
     // not depend on the thread count.
     constexpr std::size_t chunk = 4096;
@@ -108,16 +132,9 @@ class SrdStreaming : public SystemOf<Reads<>, Writes<Position<D>, Velocity<D>, I
         double* work = chunk_work ? chunk_work + k : nullptr;
         const std::size_t end = std::min(view.size(), (k + 1) * chunk);
         for (std::size_t i = k * chunk; i != end; ++i) {
-          double* xi = x + D * i;
-          const double* g = force.acts_at(xi) ? force.acceleration : none;
-          const int reflections = stream_between_walls<D>(xi, v + D * i, g, start, dt, walls, wall_count, work);
+          const int reflections = flight(x + D * i, v + D * i, images ? images + D * i : nullptr, work);
           here += static_cast<std::uint64_t>(reflections);
           stranded += reflections == most_reflections ? 1 : 0;
-          for (int a = 0; a < D; ++a)
-            if (!(bounded & (1u << a))) {
-              if (images) images[D * i + static_cast<std::size_t>(a)] += static_cast<std::int32_t>(periods_out(xi[a], length[a]));
-              xi[a] = wrapped(xi[a], length[a]);
-            }
         }
         chunk_reflections_[k] = here;
         chunk_stranded_[k] = stranded;

@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <vector>
 
 #include "components/mass.hpp"
 #include "components/velocity.hpp"
@@ -17,7 +18,6 @@
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
-#include "systems/srd/global_motion.hpp"
 #include "systems/srd/srd_cell_kernels.hpp"
 #include "systems/srd/srd_cells.hpp"
 
@@ -38,12 +38,23 @@ class SrdThermostat : public SystemOf<Reads<Mass>, Writes<Velocity<D>, SrdCells<
   std::string name() const override { return "srd_thermostat"; }
 
   void run_on(View view) override {
-    auto& cells = view.template write<SrdCells<D>>();
-    Vec<D>* velocity = view.template write<Velocity<D>>().data();
     const double* mass = view.template has<Mass>() ? view.template read<Mass>().data() : nullptr;
+    const auto every = [](std::size_t) { return true; };
+    rescale(view.template write<Velocity<D>>().data(), mass, view.size(), view.template write<SrdCells<D>>(),
+            temperature_, remove_drift_, every, every, [](std::vector<double> sums) { return sums; });
+  }
+
+  // The rescaling of `n` particles in `cells`, of which the ones `counted`
+  // (a particle's index) are this grid's own and the cells `owned` (a cell's
+  // index) too: the global sums are those of the owned ones, added over every
+  // part of the system by `add_across` (a vector of sums in, their totals
+  // out), so that ranks holding copies of each other's particles scale all
+  // by one factor.
+  template <class Counted, class Owned, class AddAcross>
+  static void rescale(Vec<D>* velocity, const double* mass, std::size_t n, SrdCells<D>& cells, double temperature,
+                      bool remove_drift, Counted counted, Owned owned, AddAcross add_across) {
     const double m0 = cells.particle_mass;
-    const auto m = [&](std::size_t i) { return mass ? mass[i] : m0; };
-    const std::size_t n = view.size();
+    const auto m = [&](std::size_t i) { return counted(i) ? (mass ? mass[i] : m0) : 0.0; };
     const std::uint32_t* cell = cells.cell.data();
     // A particle's velocity relative to its cell's mean, as the cell sees it.
     const auto thermal_velocity = [&](std::size_t i) {
@@ -51,16 +62,24 @@ class SrdThermostat : public SystemOf<Reads<Mass>, Writes<Velocity<D>, SrdCells<
       u[0] += cells.image_velocity(i);
       return u;
     };
-    // Global drift (mass-weighted mean velocity), summed in a fixed order.
-    const Vec<D> drift = remove_drift_ ? global_motion<D>(view.template read<Velocity<D>>(), view.template has<Mass>() ? &view.template read<Mass>() : nullptr, m0, false).mean : Vec<D>::Zero();
-    // Thermal energy about the cell means (which the rotation left unchanged).
-    const double thermal = deterministic_sum(n, [&](std::size_t i) { return m(i) * thermal_velocity(i).squaredNorm(); });
-    const double occupied =
-        deterministic_sum(cells.cell_count(), [&](std::size_t c) { return cells.count[c] > 0 ? 1.0 : 0.0; });
+    // Summed in a fixed order: mass, momentum, the thermal energy about the
+    // cell means (which the rotation left unchanged), occupied cells, particles.
+    std::vector<double> sums(D + 4, 0.0);
+    sums[0] = deterministic_sum(n, m);
+    if (remove_drift)
+      for (int a = 0; a < D; ++a) sums[1 + a] = deterministic_sum(n, [&](std::size_t i) { return m(i) * velocity[i][a]; });
+    sums[D + 1] = deterministic_sum(n, [&](std::size_t i) { return m(i) * thermal_velocity(i).squaredNorm(); });
+    sums[D + 2] = deterministic_sum(cells.cell_count(), [&](std::size_t c) { return cells.count[c] > 0 && owned(c) ? 1.0 : 0.0; });
+    sums[D + 3] = deterministic_sum(n, [&](std::size_t i) { return counted(i) ? 1.0 : 0.0; });
+    sums = add_across(std::move(sums));
+    Vec<D> drift = Vec<D>::Zero();
+    if (remove_drift)
+      for (int a = 0; a < D; ++a) drift[a] = sums[1 + a] / sums[0];
+    const double thermal = sums[D + 1];
     // Each occupied cell's mean velocity takes D degrees of freedom.
-    const double dof = D * (static_cast<double>(n) - occupied);
+    const double dof = D * (sums[D + 3] - sums[D + 2]);
     if (thermal <= 0.0 || dof <= 0.0) return;
-    const double factor = std::sqrt(temperature_ * dof / thermal);
+    const double factor = std::sqrt(temperature * dof / thermal);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         thermostat_velocity<D>(velocity[i].data(), cells.velocity[cell[i]].data(), drift.data(), factor,
