@@ -64,6 +64,7 @@
 #include "systems/srd/slab_domain.hpp"
 #include "systems/srd/srd_cells.hpp"
 #include "systems/srd/srd_kernels.hpp"
+#include "systems/srd/srd_step_sums.hpp"
 #include "systems/srd/srd_walls.hpp"
 #include "systems/srd/streaming.hpp"
 #include "systems/srd/thermostat.hpp"
@@ -83,14 +84,15 @@ struct DomainGhost : Column<std::uint8_t> {
 // What the step does besides the periodic SRD step.
 template <int D>
 struct DomainStepPhysics {
-  int axis = D - 1;  // of the slabs: periodic
+  int axis = D - 1;  // of the slabs: periodic, not x where there is shear
+  double shear_rate = 0.0;  // through Lees-Edwards planes across y
   BodyForce<D> force;
   double thermostat_temperature = 0.0;  // 0: none
   bool remove_drift = true;             // the thermostat's: false between walls
 };
 
 template <int D>
-using SrdDomainStepBase = SystemOf<Reads<>, Writes<EveryColumn, Clock, SrdCells<D>, RunControl>>;
+using SrdDomainStepBase = SystemOf<Reads<>, Writes<EveryColumn, Clock, SrdCells<D>, SrdStepSums<D>, RunControl>>;
 
 template <int D>
 class SrdDomainStep : public SrdDomainStepBase<D> {
@@ -105,6 +107,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
         physics_(physics),
         slab_(ranks.rank(), ranks.size(), whole.cells[physics.axis], axis_names[physics.axis]),
         length_(whole.length[physics.axis]),
+        length_x_(whole.length[0]),
         low_(static_cast<double>(slab_.low())),
         high_(static_cast<double>(slab_.high())),
         dt_(dt),
@@ -127,6 +130,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     cells.ghost_fill = whole.ghost_fill;
     cells.seed = whole.seed;
     cells.record_energy = whole.record_energy;
+    cells.record_moments = whole.record_moments;
     cells.part_of_whole = {axis_, low - 2, whole.cells[axis_]};
     periodic_ = ~whole.bounded;
     accounts_ = !whole.walls.empty() || whole.record_energy;
@@ -139,6 +143,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     auto& clock = local_.resource<Clock>();
     const double start = clock.time;
     clock.advance(dt_);
+    SrdStreaming<D>::set_shear(local_.resource<SrdCells<D>>(), physics_.shear_rate, clock.time);
     shift_.run(local_);  // first: it tells which particles are ghosts
     timed(0, [&] { stream_and_sort_out(start); });
     timed(1, [&] { migrate(); });
@@ -152,6 +157,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
       if (physics_.thermostat_temperature > 0.0) thermostat();
     });
     if (accounts_) account(view);
+    fill_step_sums(view);
     // The ghosts were appended last: unless this step's reordering mixed
     // them in, dropping them is a truncation.
     const auto step = static_cast<std::uint64_t>(local_.resource<Clock>().step);
@@ -163,6 +169,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     });
     view.template write<Clock>() = local_.resource<Clock>();
     view.template write<SrdCells<D>>().shift = local_.resource<SrdCells<D>>().shift;
+    view.template write<SrdCells<D>>().shear = local_.resource<SrdCells<D>>().shear;
     host_current_ = false;
   }
 
@@ -228,11 +235,12 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     return edge >= low_ && edge < high_;
   }
 
-  // This step's cells (as the reduction left them, before the rotation) into
-  // the whole grid, each from the rank that owns it.
+  // This step's cells (as the reduction left them, before the rotation, with
+  // the rotation's collisional transfer) into the whole grid, each from the
+  // rank that owns it.
   void gather_cells(SrdCells<D>& whole) const {
     const auto& local = local_.resource<SrdCells<D>>();
-    constexpr std::size_t record = 4 + D;
+    constexpr std::size_t record = 5 + D;
     std::vector<double> mine;
     for (std::size_t c = 0; c < local.cell_count(); ++c) {
       if (!owns(local, c)) continue;
@@ -240,6 +248,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
       mine.push_back(local.count[c]);
       mine.push_back(local.mass[c]);
       mine.push_back(local.theta[c]);
+      mine.push_back(local.transfer[c]);
       for (int a = 0; a < D; ++a) mine.push_back(local.velocity[c][a]);
     }
     const std::vector<double> all = ranks_.gather_all(mine);
@@ -248,7 +257,8 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
       whole.count[c] = static_cast<std::uint32_t>(all[r + 1]);
       whole.mass[c] = all[r + 2];
       whole.theta[c] = all[r + 3];
-      for (int a = 0; a < D; ++a) whole.velocity[c][a] = all[r + 4 + static_cast<std::size_t>(a)];
+      whole.transfer[c] = all[r + 4];
+      for (int a = 0; a < D; ++a) whole.velocity[c][a] = all[r + 5 + static_cast<std::size_t>(a)];
     }
   }
 
@@ -291,11 +301,21 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
             images_ ? local_.component<ImageCount<D>>().data() : nullptr};
   }
 
-  // Particle i's columns onto `out`, moved by `offset` along the slab axis
-  // (into the frame of the rank across the periodic edge).
+  // Particle i's columns onto `out`, moved by `offset` (0 or +-the box)
+  // along the slab axis, into the frame of the rank across the periodic
+  // edge. Where that edge is a Lees-Edwards plane (slabs along y), the image
+  // above moves by the shear's offset and velocity along x: seen from there
+  // the particle is where a one-rank grid's cell across the plane sees it
+  // (srd_kernels.hpp: cell_of, image_velocity_x).
   void pack(const Columns& c, std::size_t i, std::vector<double>& out, double offset) const {
-    for (int a = 0; a < D; ++a) out.push_back(a == axis_ ? c.x[i][a] + offset : c.x[i][a]);
-    for (int a = 0; a < D; ++a) out.push_back(c.v[i][a]);
+    const Shear& shear = local_.resource<SrdCells<D>>().shear;
+    const double image = axis_ == 1 && shear.velocity != 0.0 ? (offset > 0.0 ? 1.0 : (offset < 0.0 ? -1.0 : 0.0)) : 0.0;
+    for (int a = 0; a < D; ++a) {
+      if (a == axis_) out.push_back(c.x[i][a] + offset);
+      else if (a == 0 && image != 0.0) out.push_back(wrapped(c.x[i][a] + image * shear.offset, length_x_));
+      else out.push_back(c.x[i][a]);
+    }
+    for (int a = 0; a < D; ++a) out.push_back(a == 0 ? c.v[i][a] + image * shear.velocity : c.v[i][a]);
     if (c.id) out.push_back(c.id[i]);
     if (c.image)
       for (int a = 0; a < D; ++a) out.push_back(c.image[i][a]);
@@ -372,7 +392,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     sorted_out_.resize(chunks);
     const double dt = dt_;
     const double* length = cells.length.data();
-    const Shear none;
+    const Shear shear = cells.shear;
     const bool walled = !cells.walls.empty() || physics_.force.any();
     const WalledFlight<D> flight{cells.walls.data(), static_cast<int>(cells.walls.size()), periodic_, physics_.force,
                                  start, dt, length};
@@ -391,9 +411,9 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
           lists.reflections += static_cast<std::uint64_t>(reflections);
           lists.stranded += reflections == most_reflections ? 1 : 0;
         } else if (c.image) {
-          stream_particle<D, true>(x, c.v[i].data(), dt, length, none, c.image[i].data());
+          stream_particle<D, true>(x, c.v[i].data(), dt, length, shear, c.image[i].data());
         } else {
-          stream_particle<D>(x, c.v[i].data(), dt, length, none);
+          stream_particle<D>(x, c.v[i].data(), dt, length, shear);
         }
         const double z = x[axis_];
         if (!(z >= low_ && z < high_) && slab_.owner(z) != slab_.rank) {
@@ -573,6 +593,70 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
           stranded_failure(clock.time, clock.step, static_cast<std::uint64_t>(sums[1]), dt_));
   }
 
+  // The sums the every-step samplers asked for (srd_step_sums.hpp): of this
+  // rank's own particles and cells, per fixed chunk of particles, added over
+  // the chunks and then the ranks in order; so that the samplers need not
+  // gather the particles every step.
+  void fill_step_sums(View view) {
+    if (!view.template has<SrdStepSums<D>>()) return;
+    auto& sums = view.template write<SrdStepSums<D>>();
+    if (sums.layer_requests.empty() && !sums.stress_requested) return;
+    const auto& cells = local_.resource<SrdCells<D>>();
+    const Columns c = columns();
+    const std::uint8_t* copy = local_.component<DomainGhost>().data();
+    constexpr std::size_t w = 3 + D;
+    std::vector<std::size_t> at;  // where each request's rows start
+    std::size_t width = 0;
+    for (const LayerSumsRequest& r : sums.layer_requests) {
+      at.push_back(width);
+      width += static_cast<std::size_t>(r.layers) * w;
+    }
+    const std::size_t stress_at = width;
+    if (sums.stress_requested) width += 3;
+    constexpr std::size_t chunk = 16384;
+    const std::size_t n = local_.size(), chunks = (n + chunk - 1) / chunk;
+    std::vector<double> partial(chunks * width, 0.0);
+    const double half = 0.5 * cells.length[1 % D];
+    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
+      double* out = partial.data() + k * width;
+      for (std::size_t i = k * chunk; i < std::min(n, (k + 1) * chunk); ++i) {
+        if (copy[i]) continue;
+        const Vec<D>& v = c.v[i];
+        for (std::size_t q = 0; q < at.size(); ++q) {
+          const LayerSumsRequest& r = sums.layer_requests[q];
+          const int layer = std::clamp(static_cast<int>(std::floor(c.x[i][r.axis])), 0, r.layers - 1);
+          double* row = out + at[q] + static_cast<std::size_t>(layer) * w;
+          row[0] += 1.0;
+          row[1] += v[r.flow];
+          row[2] += v.squaredNorm();
+          for (int a = 0; a < D; ++a) row[3 + a] += v[a];
+        }
+        if (sums.stress_requested && D >= 2) {
+          out[stress_at] += v[0] * v[1 % D];
+          out[stress_at + 1] += v[1 % D] * (c.x[i][1 % D] - half);
+          out[stress_at + 2] += v[1 % D] * v[1 % D];
+        }
+      }
+    });
+    std::vector<double> mine(width + 1, 0.0);
+    for (std::size_t k = 0; k < chunks; ++k)
+      for (std::size_t j = 0; j < width; ++j) mine[j] += partial[k * width + j];
+    if (sums.stress_requested)
+      for (std::size_t cell = 0; cell < cells.cell_count(); ++cell)
+        if (owns(cells, cell)) mine[width] += cells.transfer[cell];
+    communicating([&] { mine = ranks_.add_across(mine); });
+    sums.layers.assign(at.size(), {});
+    for (std::size_t q = 0; q < at.size(); ++q) {
+      const auto rows = static_cast<std::ptrdiff_t>(sums.layer_requests[q].layers * static_cast<int>(w));
+      sums.layers[q].assign(mine.begin() + static_cast<std::ptrdiff_t>(at[q]), mine.begin() + static_cast<std::ptrdiff_t>(at[q]) + rows);
+    }
+    if (sums.stress_requested) {
+      for (std::size_t k = 0; k < 3; ++k) sums.stress[k] = mine[stress_at + k];
+      sums.transfer = mine[width];
+    }
+    sums.step = local_.resource<Clock>().step;
+  }
+
   // The ghosts that came with the migrants, and the copies this rank kept.
   void add_ghosts() {
     append(arrived_ghosts_, 1);
@@ -585,6 +669,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   DomainStepPhysics<D> physics_;
   SlabDomain slab_;
   double length_;  // of the periodic box along the slab axis
+  double length_x_;
   double low_, high_;  // this rank's slab
   double ghost_below_edge_ = 0.0, ghost_above_edge_ = 0.0;  // this step's: particles below / above go as ghosts
   double keep_below_edge_ = 0.0, keep_above_edge_ = 0.0;    // this step's: leavers beyond them stay as ghosts

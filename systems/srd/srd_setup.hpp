@@ -247,20 +247,28 @@ void add_domain_step(Run& run, const SrdCells<D>& state, const BodyForce<D>& for
                                   "mpirun",
                                   what, ranks));
   };
-  if (c.real("shear.rate") > 0.0) refuse(fmt::format("shear.rate = {} (Lees-Edwards planes)", c.real("shear.rate")));
   if (c.text("srd.device") != "cpu") refuse(fmt::format("srd.device = \"{}\"", c.text("srd.device")));
+  const double rate = c.real("shear.rate");
   // The slabs lie along a periodic axis, the one with the most cells (the
-  // last of equals: the slowest index); walls then span every slab.
+  // last of equals: the slowest index); walls then span every slab. Under
+  // shear, along the last axis: the Lees-Edwards planes across y shift
+  // particles and cells along x, so x is never split; in 3D z keeps the
+  // planes inside every slab, in 2D they lie at the slabs' periodic edge.
   int axis = -1;
   for (int a = D - 1; a >= 0; --a)
     if (!(state.bounded & (1u << a)) && (axis < 0 || state.cells[a] > state.cells[axis])) axis = a;
+  if (rate > 0.0) axis = D - 1;
   if (axis < 0)
     throw ConfigError(fmt::format("an SRD fluid with walls across every axis cannot be split over {} ranks: the slabs "
                                   "need one periodic axis; run it without mpirun",
                                   ranks));
+  // Samplers that run every step read sums the step adds over the ranks
+  // (srd_step_sums.hpp), not the whole system gathered each step.
+  run.world().template emplace_resource<SrdStepSums<D>>();
   DomainStepPhysics<D> physics;
   physics.axis = axis;
   physics.force = force;
+  physics.shear_rate = rate;
   physics.thermostat_temperature = c.real("thermostat.temperature");
   physics.remove_drift = !walled;  // as on one rank: walls fix the frame
   const auto interval = static_cast<std::uint64_t>(run.derived("reorder_interval"));

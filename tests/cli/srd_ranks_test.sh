@@ -18,8 +18,11 @@
 #  - between walls (the slabs then lie along a periodic axis): Poiseuille
 #    flow (no-slip walls with ghost particles, body force, global
 #    thermostat) and the shaken bed (a moving floor, gravity, the energy
-#    ledger), 2D and 3D, on 2 and 3 ranks, give the one-rank result to
-#    round-off, and the ledger balances on ranks as on one;
+#    ledger), and Lees-Edwards shear (srd_viscosity with its thermostat and
+#    stress sampler; the granular shear band with particle frames; in 2D the
+#    planes lie at the slabs' periodic edge, in 3D inside every slab), 2D
+#    and 3D, on 2 and 3 ranks, give the one-rank result to round-off, and the
+#    ledger balances on ranks as on one;
 #  - failed physics (a particle stranded on a wall) ends every rank with
 #    exit 3 and one diagnosis;
 #  - what is not distributed is refused once, on rank 0, with exit status 2.
@@ -140,9 +143,10 @@ ranks 2 run "$cooling" "${big[@]}" --set output.checkpoint_interval=1 -o "$work/
 ranks 2 run "$cooling" "${big[@]}" --set output.checkpoint_interval=1 -o "$work/unkilled.h5" || fail "2-rank reference exited with $?"
 agree "$work/unkilled.h5" "$work/killed.h5" 0
 
-# Between walls. The energy balance error is itself round-off (1e-14 of the
-# energies): it is checked against the energies, not compared across runs.
-walled() {  # walled NAME SCENARIO ARGS...
+# Between walls, and under Lees-Edwards shear. The energy balance error is
+# itself round-off (1e-14 of the energies): it is checked against the
+# energies, not compared across runs.
+alike() {  # alike NAME SCENARIO ARGS...: on 1, 2 and 3 ranks
   local name="$1" scenario="$2"; shift 2
   "$granflow" run "$scenario" "$@" -q -o "$work/${name}_1.h5" || fail "one rank ($name) exited with $?"
   for k in 2 3; do
@@ -150,13 +154,21 @@ walled() {  # walled NAME SCENARIO ARGS...
     agree "$work/${name}_1.h5" "$work/${name}_$k.h5" 1e-9 observables/energy_balance_error
   done
 }
-walled poiseuille_2d "$scenarios/srd_poiseuille.toml" --set run.steps=600 --set poiseuille.warmup_steps=100
-walled poiseuille_3d "$scenarios/srd_poiseuille.toml" --set system.dimension=3 --set 'system.cells=[10,8,6]' \
+alike poiseuille_2d "$scenarios/srd_poiseuille.toml" --set run.steps=600 --set poiseuille.warmup_steps=100
+alike poiseuille_3d "$scenarios/srd_poiseuille.toml" --set system.dimension=3 --set 'system.cells=[10,8,6]' \
   --set run.steps=300 --set poiseuille.warmup_steps=100
-walled shaken_2d "$scenarios/gsrd_shaken.toml" --set system.dimension=2 --set 'system.cells=[48,24]' \
+alike shaken_2d "$scenarios/gsrd_shaken.toml" --set system.dimension=2 --set 'system.cells=[48,24]' \
   --set run.steps=600 --set shaken.warmup_steps=100
-walled shaken_3d "$scenarios/gsrd_shaken.toml" --set system.dimension=3 --set 'system.cells=[6,8,12]' \
+alike shaken_3d "$scenarios/gsrd_shaken.toml" --set system.dimension=3 --set 'system.cells=[6,8,12]' \
   --set run.steps=300 --set shaken.warmup_steps=100
+alike viscosity_2d "$scenarios/srd_viscosity.toml" --set run.steps=1000 --set viscosity.warmup_steps=200 \
+  --set output.every_steps=200 --set fields.every_steps=200
+alike shear_band_2d "$scenarios/gsrd_shear_band.toml" --set run.steps=800 --set viscosity.warmup_steps=200 \
+  --set output.every_steps=200 --set output.positions=all
+alike viscosity_3d "$scenarios/srd_viscosity.toml" --set system.dimension=3 --set 'system.cells=[8,8,9]' \
+  --set run.steps=600 --set viscosity.warmup_steps=100 --set output.every_steps=100 --set fields.every_steps=200
+alike shear_band_3d "$scenarios/gsrd_shear_band.toml" --set system.dimension=3 --set 'system.cells=[6,12,6]' \
+  --set run.steps=600 --set viscosity.warmup_steps=100 --set output.every_steps=100
 /usr/bin/python3 - "$work"/shaken_{2d,3d}_{2,3}.h5 <<'PY' || failures=$((failures + 1))
 import sys, h5py, numpy as np
 for path in sys.argv[1:]:
@@ -189,7 +201,7 @@ refused() {  # refused PATTERN RANKS ARGS...
   if [[ $status -ne 0 && $said -eq 1 && ! -e "$work/refused.h5" ]]; then echo "ok: refused once: $pattern"
   else fail "expected one refusal '$pattern' (exit $status, said $said times): $output"; fi
 }
-refused "shear.rate = " 2 run "$scenarios/srd_viscosity.toml"
+refused 'srd.device = "thrust_host"' 2 run "$cooling" --set srd.device=thrust_host
 refused "has no distributed step" 2 run "$scenarios/haff_cooling.toml"
 refused "cannot split 2 cells along z" 3 run "$cooling" --set 'system.cells=[2,2,2]'
 refused "ensemble of independent runs" 2 run "$cooling" --set run.runs=2
