@@ -169,6 +169,22 @@ alike viscosity_3d "$scenarios/srd_viscosity.toml" --set system.dimension=3 --se
   --set run.steps=600 --set viscosity.warmup_steps=100 --set output.every_steps=100 --set fields.every_steps=200
 alike shear_band_3d "$scenarios/gsrd_shear_band.toml" --set system.dimension=3 --set 'system.cells=[6,12,6]' \
   --set run.steps=600 --set viscosity.warmup_steps=100 --set output.every_steps=100
+# Extended from 2 ranks on 3: between moving walls with the energy ledger,
+# and under shear with the thermostat and the stress sampler.
+extended() {  # extended NAME SCENARIO FIRST_STEPS ARGS...
+  local name="$1" scenario="$2" first="$3"; shift 3
+  ranks 3 run "$scenario" "$@" --set output.final_checkpoint=true -q -o "$work/${name}_whole.h5" \
+    || fail "3-rank reference ($name) exited with $?"
+  ranks 2 run "$scenario" "$@" --set output.final_checkpoint=true --set run.steps="$first" -q -o "$work/${name}_ext.h5" \
+    || fail "2-rank first part ($name) exited with $?"
+  ranks 3 run "$scenario" "$@" --set output.final_checkpoint=true -q -o "$work/${name}_ext.h5" --resume \
+    || fail "3-rank extension ($name) exited with $?"
+  agree "$work/${name}_whole.h5" "$work/${name}_ext.h5" 1e-9 observables/energy_balance_error
+}
+extended shaken_2d "$scenarios/gsrd_shaken.toml" 300 --set system.dimension=2 --set 'system.cells=[48,24]' \
+  --set run.steps=600 --set shaken.warmup_steps=100
+extended viscosity_2d "$scenarios/srd_viscosity.toml" 600 --set run.steps=1000 --set viscosity.warmup_steps=200 \
+  --set output.every_steps=200
 /usr/bin/python3 - "$work"/shaken_{2d,3d}_{2,3}.h5 <<'PY' || failures=$((failures + 1))
 import sys, h5py, numpy as np
 for path in sys.argv[1:]:
