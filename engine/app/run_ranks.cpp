@@ -11,6 +11,7 @@
 
 #include "engine/app/mpi_session.hpp"
 #include "engine/core/input_error.hpp"
+#include "engine/io/provenance.hpp"
 
 namespace granflow {
 
@@ -99,6 +100,7 @@ int run_on_ranks(RunOptions options, const std::function<int(const RunOptions&)>
   const MpiSession session;
   MpiCommunicator ranks;
   options.communicator = &ranks;
+  record_rank_count(ranks.size());
   const auto level = spdlog::get_level();
   // What every rank would say, rank 0 says.
   if (ranks.rank() > 0) spdlog::set_level(spdlog::level::err);

@@ -150,6 +150,7 @@ H5mdFile::H5mdFile(const std::string& path, const std::string& scenario)
   write_string_attribute(provenance, "host", host_name());
   write_string_attribute(provenance, "command_line", recorded_command_line());
   write_numeric_attribute<int>(provenance, "threads", H5T_NATIVE_INT, {thread_limit()});
+  write_numeric_attribute<int>(provenance, "ranks", H5T_NATIVE_INT, {rank_count()});
   started_utc_ = utc_timestamp();
   write_string_attribute(provenance, "started_utc", started_utc_);
 }
@@ -171,6 +172,7 @@ StateMap H5mdFile::provenance_state() const {
     list.insert(list.end(), more.begin(), more.end());
   }
   segments["threads"].push_back(thread_limit());
+  segments["ranks"].push_back(rank_count());
   segments["wall_seconds"].push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count());
   return segments;
 }
@@ -186,6 +188,8 @@ void H5mdFile::restore_provenance(const StateMap& state) {
   if (state.count("wall_seconds") == 0 || state.at("wall_seconds").size() != threads->second.size())
     throw std::invalid_argument("checkpoint provenance has no wall times for its segments");
   earlier_segments_ = state;
+  // A checkpoint from before ranks were recorded: every segment ran on one.
+  if (state.count("ranks") == 0) earlier_segments_["ranks"].assign(threads->second.size(), 1.0);
 }
 
 // A file abandoned before finish() (the run threw) is deleted: a .partial
@@ -489,7 +493,7 @@ void H5mdFile::finish() {
   const StateMap segments = provenance_state();
   const hid_t listed = group("/provenance/segments");
   for (const auto& name : segment_texts) write_fixed_strings(listed, name, decode_texts(segments.at(name)));
-  for (const auto* name : {"threads", "wall_seconds"})
+  for (const auto* name : {"threads", "ranks", "wall_seconds"})
     write_dataset(listed, name, H5T_NATIVE_DOUBLE, segments.at(name).data(), {segments.at(name).size()});
   write_string_attribute(provenance, "finished_utc", utc_timestamp());
   write_numeric_attribute<double>(

@@ -66,4 +66,11 @@ int thread_limit() {
   return static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
 }
 
+namespace {
+int recorded_ranks = 1;
+}  // namespace
+
+void record_rank_count(int ranks) { recorded_ranks = ranks; }
+int rank_count() { return recorded_ranks; }
+
 }  // namespace granflow

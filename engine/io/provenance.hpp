@@ -1,7 +1,8 @@
 #pragma once
 // Where a result came from, written to /provenance of every result file
 // (and the author to /h5md/author): the build (engine/io/version.hpp), the
-// command line, host, user, thread limit and the start and end of writing.
+// command line, host, user, thread limit, the ranks one system is spread
+// over, and the start and end of writing.
 
 #include <string>
 
@@ -18,5 +19,9 @@ std::string user_name();
 std::string utc_timestamp();
 // The largest number of threads the run may use (the --threads limit).
 int thread_limit();
+// The number of MPI ranks one system is spread over (`mpirun -np K granflow
+// run`): 1 unless the launcher records more.
+void record_rank_count(int ranks);
+int rank_count();
 
 }  // namespace granflow

@@ -37,6 +37,7 @@
 // resumed run scatters that World back by slab, which gives each rank its
 // particles in the order it held them.
 
+#include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
 #include <array>
@@ -198,24 +199,43 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     host_current_ = true;
   }
 
-  // This rank's time in each part of the step (rank 0's reach the profile).
+  // The time in each part of the step: this rank's as the step's own rows
+  // (rank 0's reach the profile), and every rank's as rows
+  // `srd_domain_step.rank<r>.<part>`, so that a slow rank and the others'
+  // wait for it show. Collective: every rank writes its results.
   std::vector<ProfileEntry> device_profile() const override {
     std::vector<ProfileEntry> out;
     for (std::size_t k = 0; k < phases; ++k)
       out.push_back({std::string("srd_domain_step.") + phase_names[k], phase_calls_[k], phase_seconds_[k]});
+    std::vector<double> mine(2 * phases);
+    for (std::size_t k = 0; k < phases; ++k) {
+      mine[2 * k] = static_cast<double>(phase_calls_[k]);
+      mine[2 * k + 1] = phase_seconds_[k];
+    }
+    const std::vector<double> all = ranks_.gather_all(mine);
+    for (std::size_t r = 0; r * mine.size() < all.size(); ++r)
+      for (std::size_t k = 0; k < phases; ++k)
+        out.push_back({fmt::format("srd_domain_step.rank{}.{}", r, phase_names[k]),
+                       static_cast<std::uint64_t>(all[r * mine.size() + 2 * k]), all[r * mine.size() + 2 * k + 1]});
     return out;
   }
 
  private:
-  static constexpr std::size_t phases = 9;
-  static constexpr const char* phase_names[phases] = {"streaming", "migration", "ghost_exchange", "binning",
-                                                      "reduction", "rotation",  "ghost_removal",  "gather",
-                                                      "communication"};
-  // The part of migration and ghost exchange spent in MPI, waiting for the
-  // other ranks included.
+  static constexpr std::size_t phases = 10;
+  static constexpr const char* phase_names[phases] = {"streaming", "migration",     "ghost_exchange", "binning",
+                                                      "reduction", "rotation",      "ghost_removal",  "gather",
+                                                      "communication", "agreement"};
+  // Time in MPI calls, waiting for the other ranks included: the exchanges
+  // with the neighbours and the per-step sums (inside the parts above);
+  // apart, the sum each round of the migration ends with, which agrees on
+  // further rounds and on a signal.
   template <class Work>
   void communicating(Work&& work) {
     timed(8, std::forward<Work>(work));
+  }
+  template <class Work>
+  void agreeing(Work&& work) {
+    timed(9, std::forward<Work>(work));
   }
   template <class Work>
   void timed(std::size_t phase, Work&& work) {
@@ -487,7 +507,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
       }
       // Once per round on every rank: the place to agree on a signal too.
       std::int64_t pending_anywhere = 0;
-      communicating([&] { pending_anywhere = ranks_.sum_agreeing_on_interrupt(pending); });
+      agreeing([&] { pending_anywhere = ranks_.sum_agreeing_on_interrupt(pending); });
       if (pending_anywhere == 0) return;
     }
   }

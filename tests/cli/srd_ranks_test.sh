@@ -9,7 +9,7 @@
 #  - on a given number of ranks the result does not depend on the threads;
 #  - a finished 2-rank run extended with --resume on 2 ranks equals one
 #    2-rank run bit for bit, and extended on 3 ranks equals a 3-rank run to
-#    round-off;
+#    round-off; /provenance records the ranks of each segment;
 #  - SIGINT to mpirun (which sends the ranks SIGTERM) stops every rank at
 #    one step with a checkpoint and no result file, and --resume on 3 ranks
 #    finishes it; a rank killed with
@@ -102,6 +102,14 @@ for k in 2 3; do
 done
 agree "$work/whole2.h5" "$work/extended2.h5" 0
 agree "$work/whole3.h5" "$work/extended3.h5" 1e-9
+/usr/bin/python3 - "$work/extended3.h5" <<'PY' || failures=$((failures + 1))
+import sys, h5py
+p = h5py.File(sys.argv[1], "r")["provenance"]
+ranks = list(p["segments/ranks"][()])
+if p.attrs["ranks"] != 3 or ranks != [2, 3]:
+    sys.exit(f"FAIL: provenance ranks {p.attrs['ranks']}, segments {ranks} (expected 3 and [2, 3])")
+print("ok: provenance records the ranks of each segment: [2, 3]")
+PY
 
 # SIGINT to the launcher: every rank stops at the same step and rank 0
 # writes the checkpoint; 3 ranks finish the run. The launcher starts with
