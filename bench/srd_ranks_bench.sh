@@ -5,7 +5,7 @@
 # step), the two taking turns in every round (this machine's speed drifts).
 # The time of a step is the step systems' total in /profile, so set-up and
 # the few outputs are left out. Prints each round, the medians, the
-# efficiency t(1 rank) / t(2 ranks), and rank 0's parts of the 2-rank step.
+# efficiency t(1 rank) / t(2 ranks), and each rank's parts of the 2-rank step.
 #
 #   bench/srd_ranks_bench.sh [GRANFLOW] [ROUNDS] [STEPS]
 #   (default: build/granflow, 5 rounds, 200 steps; a -DGRANFLOW_MPI=ON build)
@@ -49,6 +49,9 @@ print(f"weak-scaling efficiency: median of the rounds' ratios {statistics.median
       f"(range {min(ratios):.3f}-{max(ratios):.3f})")
 f = h5py.File(sys.argv[3], "r")
 names = [n.decode() if isinstance(n, bytes) else n for n in f["profile/system"][()]]
-for n, t in zip(names, f["profile/total_seconds"][()]):
-    if n.startswith("srd_domain_step."): print(f"  {n:<36} {t / int(sys.argv[4]) * 1e3:7.2f} ms/step")
+rows = dict(zip(names, f["profile/total_seconds"][()]))
+parts = [n.split(".")[-1] for n in names if n.startswith("srd_domain_step.rank0.")]
+print("parts of the 2-rank step, ms/step:", " ".join(f"{'rank ' + str(r):>8}" for r in range(2)))
+for part in parts:
+    print(f"  {part:<16}", " ".join(f"{rows[f'srd_domain_step.rank{r}.{part}'] / int(sys.argv[4]) * 1e3:8.2f}" for r in range(2)))
 PY
