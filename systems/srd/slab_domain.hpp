@@ -1,16 +1,20 @@
 #pragma once
 // How an SRD grid is split over K ranks: slabs of whole cells along one
 // periodic axis (srd_setup.hpp picks it), rank r owning the particles whose
-// coordinate along it lies in [low(r), low(r + 1)). The slabs differ by at most one
-// cell, so that ranks of a homogeneous fluid carry equal work.
+// coordinate along it lies in [low(r), low(r + 1)). The slabs start equal
+// (differing by at most one cell); where the particles gather unevenly
+// (clusters), `balanced` moves the bounds so that each rank carries about
+// the same particles, as LAMMPS's `balance` does along one dimension.
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "engine/core/config.hpp"
+#include "engine/core/state_map.hpp"
 
 namespace granflow::srd {
 
@@ -18,17 +22,20 @@ struct SlabDomain {
   int rank = 0;
   int ranks = 1;
   std::int64_t cells = 1;  // of the whole grid along the slab axis
+  // Rank r owns the layers of cells [bounds[r], bounds[r + 1]).
+  std::vector<std::int64_t> bounds;
 
-  // axis_name: of the slab axis, for the message.
+  // axis_name: of the slab axis, for the message. The slabs start equal.
   SlabDomain(int this_rank, int rank_count, std::int64_t cells_along, const char* axis_name)
       : rank(this_rank), ranks(rank_count), cells(cells_along) {
     if (ranks > cells)
       throw ConfigError(fmt::format("{} ranks cannot split {} cells along {} (system.cells): a rank's slab must hold "
                                     "at least one whole cell; use at most {} ranks or more cells",
                                     ranks, cells, axis_name, cells));
+    for (int r = 0; r <= ranks; ++r) bounds.push_back(cells * r / ranks);
   }
 
-  std::int64_t low_of(int r) const { return cells * r / ranks; }
+  std::int64_t low_of(int r) const { return bounds[static_cast<std::size_t>(r)]; }
   std::int64_t low() const { return low_of(rank); }
   std::int64_t high() const { return low_of(rank + 1); }
   int below() const { return (rank + ranks - 1) % ranks; }
@@ -38,7 +45,47 @@ struct SlabDomain {
   // wrapped by round-off onto the far edge, is the last cell's).
   int owner(double z) const {
     const auto k = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(z)), 0, cells - 1);
-    return static_cast<int>((static_cast<std::int64_t>(ranks) * (k + 1) + cells - 1) / cells - 1);
+    return static_cast<int>(std::upper_bound(bounds.begin() + 1, bounds.end(), k) - (bounds.begin() + 1));
+  }
+
+  // Bounds that give every rank about the same particles: `per_layer` holds
+  // the particles in each layer of cells; rank r's slab starts at the first
+  // layer before which r / K of them lie, and holds at least one layer.
+  static std::vector<std::int64_t> balanced(const std::vector<double>& per_layer, int ranks) {
+    const auto cells = static_cast<std::int64_t>(per_layer.size());
+    double total = 0.0;
+    for (double n : per_layer) total += n;
+    std::vector<std::int64_t> out{0};
+    double below = 0.0;
+    std::int64_t layer = 0;
+    for (int r = 1; r < ranks; ++r) {
+      const double target = total * r / ranks;
+      while (layer < cells && below + per_layer[static_cast<std::size_t>(layer)] <= target)
+        below += per_layer[static_cast<std::size_t>(layer++)];
+      out.push_back(std::clamp(layer, out.back() + 1, cells - (ranks - r)));
+    }
+    out.push_back(cells);
+    return out;
+  }
+  // The particles each rank owns under `bounds`, from the layers' counts.
+  static std::vector<double> loads(const std::vector<double>& per_layer, const std::vector<std::int64_t>& bounds) {
+    std::vector<double> out(bounds.size() - 1, 0.0);
+    for (std::size_t r = 0; r + 1 < bounds.size(); ++r)
+      for (auto k = bounds[r]; k < bounds[r + 1]; ++k) out[r] += per_layer[static_cast<std::size_t>(k)];
+    return out;
+  }
+};
+
+// The slab bounds a checkpoint carries, so that a run resumed on as many
+// ranks continues with the bounds it had (and stays bit for bit the same).
+struct SlabBounds : Stateful {
+  std::vector<std::int64_t> bounds;
+  StateMap save_state() const override { return {{"bounds", std::vector<double>(bounds.begin(), bounds.end())}}; }
+  void restore_state(const StateMap& state) override {
+    bounds.clear();
+    const auto found = state.find("bounds");
+    if (found == state.end()) return;  // a checkpoint from before the bounds were kept
+    for (double b : found->second) bounds.push_back(static_cast<std::int64_t>(b));
   }
 };
 

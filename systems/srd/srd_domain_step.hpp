@@ -38,12 +38,16 @@
 // particles in the order it held them.
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -92,6 +96,16 @@ struct DomainStepPhysics {
   bool remove_drift = true;             // the thermostat's: false between walls
 };
 
+// When the slabs are rebalanced: every `every_steps` (0: never) the
+// particles per slab are counted, and where the busiest rank holds more
+// than `threshold` times the mean the bounds move (SlabDomain::balanced).
+// `kept` carries the bounds in checkpoints.
+struct DomainBalance {
+  std::int64_t every_steps = 0;
+  double threshold = 1.1;
+  std::shared_ptr<SlabBounds> kept;
+};
+
 template <int D>
 using SrdDomainStepBase = SystemOf<Reads<>, Writes<EveryColumn, Clock, SrdCells<D>, SrdStepSums<D>, RunControl>>;
 
@@ -102,7 +116,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
 
   SrdDomainStep(const Communicator& ranks, double dt, const RotationParameters& rotation, std::uint64_t seed,
                 bool grid_shift, std::uint64_t reorder_interval, const SrdCells<D>& whole,
-                const DomainStepPhysics<D>& physics)
+                const DomainStepPhysics<D>& physics, DomainBalance balance = {})
       : ranks_(ranks),
         axis_(physics.axis),
         physics_(physics),
@@ -115,32 +129,44 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
         shift_(seed, grid_shift),
         binning_(reorder_interval),
         rotation_(rotation, seed),
-        reorder_interval_(reorder_interval) {
+        reorder_interval_(reorder_interval),
+        balance_(std::move(balance)) {
     local_.emplace_resource<Clock>();
-    // The box, but along the slab axis the slab and two layers either side;
-    // the walls give their axes' grids as on one rank.
-    std::array<std::int32_t, D> dims{};
-    for (int a = 0; a < D; ++a) dims[a] = static_cast<std::int32_t>(whole.length[a]);
-    const auto low = slab_.low(), width = slab_.high() - slab_.low();
-    dims[axis_] = static_cast<std::int32_t>(width + 4);
-    auto& cells = local_.emplace_resource<SrdCells<D>>(dims, 0, whole.walls);
-    cells.length = whole.length;
-    cells.origin[axis_] = static_cast<double>(low - 2);
-    cells.bounded |= 1u << axis_;  // its own grid ends at the halo: no wrap there
-    cells.particle_mass = whole.particle_mass;
-    cells.ghost_fill = whole.ghost_fill;
-    cells.seed = whole.seed;
-    cells.record_energy = whole.record_energy;
-    cells.record_moments = whole.record_moments;
-    cells.part_of_whole = {axis_, low - 2, whole.cells[axis_]};
+    place_grid(whole);
     periodic_ = ~whole.bounded;
     accounts_ = !whole.walls.empty() || whole.record_energy;
   }
 
   std::string name() const override { return "srd_domain_step"; }
 
+  // This rank's grid: the box, but along the slab axis the slab and two
+  // layers either side; the walls give their axes' grids as on one rank.
+  // `like` (the whole grid, or this rank's before its slab moved) gives the
+  // rest.
+  void place_grid(const SrdCells<D>& like) {
+    std::array<std::int32_t, D> dims{};
+    for (int a = 0; a < D; ++a) dims[a] = static_cast<std::int32_t>(like.length[a]);
+    const auto low = slab_.low(), width = slab_.high() - slab_.low();
+    dims[axis_] = static_cast<std::int32_t>(width + 4);
+    SrdCells<D> cells(dims, 0, like.walls);
+    cells.length = like.length;
+    cells.origin[axis_] = static_cast<double>(low - 2);
+    cells.bounded |= 1u << axis_;  // its own grid ends at the halo: no wrap there
+    cells.shift = like.shift;
+    cells.shear = like.shear;
+    cells.particle_mass = like.particle_mass;
+    cells.ghost_fill = like.ghost_fill;
+    cells.seed = like.seed;
+    cells.record_energy = like.record_energy;
+    cells.record_moments = like.record_moments;
+    cells.part_of_whole = {axis_, low - 2, slab_.cells};
+    local_.emplace_resource<SrdCells<D>>(std::move(cells));
+  }
+
   void run_on(View view) override {
     if (!scattered_) scatter(view);
+    const auto now = local_.resource<Clock>().step;
+    if (balance_.every_steps > 0 && now > 0 && now % balance_.every_steps == 0) timed(10, [&] { rebalance(); });
     auto& clock = local_.resource<Clock>();
     const double start = clock.time;
     clock.advance(dt_);
@@ -221,10 +247,10 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   }
 
  private:
-  static constexpr std::size_t phases = 10;
-  static constexpr const char* phase_names[phases] = {"streaming", "migration",     "ghost_exchange", "binning",
-                                                      "reduction", "rotation",      "ghost_removal",  "gather",
-                                                      "communication", "agreement"};
+  static constexpr std::size_t phases = 12;
+  static constexpr const char* phase_names[phases] = {"streaming",     "migration", "ghost_exchange", "binning",
+                                                      "reduction",     "rotation",  "ghost_removal",  "gather",
+                                                      "communication", "agreement", "balance_check",  "rebalance"};
   // Time in MPI calls, waiting for the other ranks included: the exchanges
   // with the neighbours and the per-step sums (inside the parts above);
   // apart, the sum each round of the migration ends with, which agrees on
@@ -285,6 +311,8 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   // This rank's particles of the whole World (the initial state, or the one
   // a checkpoint restored), in the World's order.
   void scatter(View view) {
+    // A checkpoint's bounds, where it was written on as many ranks.
+    if (balance_.kept && balance_.kept->bounds.size() == slab_.bounds.size()) set_bounds(balance_.kept->bounds);
     const auto& x = view.template read<Position<D>>();
     const auto& v = view.template read<Velocity<D>>();
     ids_ = view.template has<ParticleId>();
@@ -576,6 +604,65 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     local_.resize(end);
   }
 
+  void set_bounds(const std::vector<std::int64_t>& bounds) {
+    slab_.bounds = bounds;
+    low_ = static_cast<double>(slab_.low());
+    high_ = static_cast<double>(slab_.high());
+    place_grid(local_.resource<SrdCells<D>>());
+    if (balance_.kept) balance_.kept->bounds = bounds;
+  }
+
+  // Counts the particles in every layer along the slab axis (all ranks
+  // alike) and, where the busiest rank holds more than the threshold times
+  // the mean, moves the bounds and passes every particle to its new owner.
+  void rebalance() {
+    std::vector<double> per_layer(static_cast<std::size_t>(slab_.cells), 0.0);
+    {
+      const Columns c = columns();
+      for (std::size_t i = 0; i < local_.size(); ++i) {
+        const auto k = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(c.x[i][axis_])), 0, slab_.cells - 1);
+        per_layer[static_cast<std::size_t>(k)] += 1.0;
+      }
+    }
+    communicating([&] { per_layer = ranks_.add_across(per_layer); });
+    const auto busiest = [&](const std::vector<std::int64_t>& bounds) {
+      double total = 0.0, most = 0.0;
+      for (const double n : SlabDomain::loads(per_layer, bounds)) {
+        total += n;
+        most = std::max(most, n);
+      }
+      return total > 0.0 ? most * static_cast<double>(slab_.ranks) / total : 1.0;
+    };
+    const double before = busiest(slab_.bounds);
+    if (before <= balance_.threshold) return;
+    const auto bounds = SlabDomain::balanced(per_layer, slab_.ranks);
+    if (bounds == slab_.bounds) return;
+    const auto start = std::chrono::steady_clock::now();
+    spdlog::info("step {}: the slabs rebalanced, the busiest rank's particles from {:.3f} to {:.3f} times the mean",
+                 local_.resource<Clock>().step, before, busiest(bounds));
+    set_bounds(bounds);
+    redistribute();
+    phase_seconds_[11] += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++phase_calls_[11];
+  }
+
+  // Every particle to the owner of its slab, through the migration's rounds,
+  // with no ghosts and no copies kept.
+  void redistribute() {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    ghost_below_edge_ = -inf;
+    ghost_above_edge_ = inf;
+    keep_below_edge_ = inf;
+    keep_above_edge_ = -inf;
+    sorted_out_.assign(1, {});
+    const Columns c = columns();
+    for (std::size_t i = 0; i < local_.size(); ++i)
+      if (slab_.owner(c.x[i][axis_]) != slab_.rank) sorted_out_[0].leaving.push_back(i);
+    migrate();
+    arrived_ghosts_.clear();
+    kept_.clear();
+  }
+
   // The global thermostat over the ranks: each rank's own particles and cells.
   void thermostat() {
     auto& cells = local_.resource<SrdCells<D>>();
@@ -704,6 +791,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   bool scattered_ = false;
   unsigned periodic_ = 0;  // bit a: axis a of the whole box wraps
   bool accounts_ = false;  // walls or the energy ledger: per-step sums over the ranks
+  DomainBalance balance_;
   bool host_current_ = true;
   std::vector<double> to_below_, to_above_;  // this round's ghosts for the neighbours, packed
   std::vector<double> arrived_ghosts_, kept_;  // this step's ghosts: the neighbours' and this rank's copies

@@ -80,7 +80,11 @@ inline void declare_srd_keys(ConfigSchema& s, const SrdDefaults& d) {
       .integer("run.steps", d.steps, 1, 1000000000000, "collision steps to run")
       .integer("fields.every_steps", 0, 0, 1000000000000,
                "steps between density, velocity and temperature fields to /fields (0: none)")
-      .integer("fields.window", 10, 1, 1000000000000, "steps averaged into each field output");
+      .integer("fields.window", 10, 1, 1000000000000, "steps averaged into each field output")
+      .integer("balance.every_steps", 500, 0, 1000000000000,
+               "over MPI ranks: steps between counting the particles of each rank's slab (0: the slabs stay equal)")
+      .real("balance.threshold", 1.1, 1.0, inf,
+            "over MPI ranks: move the slabs' bounds when the busiest rank holds more than this times the mean");
   // A finished run (output.final_checkpoint) extends with --resume --set run.steps=...
   s.allow_change_on_resume("run.steps");
   s.unit("srd.time_step", unit::time)
@@ -271,9 +275,11 @@ void add_domain_step(Run& run, const SrdCells<D>& state, const BodyForce<D>& for
   physics.shear_rate = rate;
   physics.thermostat_temperature = c.real("thermostat.temperature");
   physics.remove_drift = !walled;  // as on one rank: walls fix the frame
+  DomainBalance balance{c.integer("balance.every_steps"), c.real("balance.threshold"), std::make_shared<SlabBounds>()};
+  run.keep("slab_bounds", *balance.kept);
   const auto interval = static_cast<std::uint64_t>(run.derived("reorder_interval"));
   run.step<SrdDomainStep<D>>(*run.communicator(), c.real("srd.time_step"), rotation_from(c), run.seed(),
-                             c.boolean("srd.grid_shift"), interval, state, physics);
+                             c.boolean("srd.grid_shift"), interval, state, physics, balance);
   run.mark_distributed();
   run.derive("ranks", static_cast<double>(ranks));
   run.derive("slab_axis", static_cast<double>(axis));

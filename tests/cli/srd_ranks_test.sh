@@ -23,6 +23,9 @@
 #    planes lie at the slabs' periodic edge, in 3D inside every slab), 2D
 #    and 3D, on 2 and 3 ranks, give the one-rank result to round-off, and the
 #    ledger balances on ranks as on one;
+#  - load balance: the slabs' bounds move to even out the particles of a
+#    fluid denser at one end, with the one-rank result to round-off and a
+#    resume bit for bit across a rebalance;
 #  - failed physics (a particle stranded on a wall) ends every rank with
 #    exit 3 and one diagnosis;
 #  - what is not distributed is refused once, on rank 0, with exit status 2.
@@ -203,6 +206,36 @@ for path in sys.argv[1:]:
         sys.exit(f"FAIL: {path}: energy balance error {error:.3g} against energies of {scale:.3g}")
 print(f"ok: the energy ledger balances on ranks (to 1e-12 of the energies) in {len(sys.argv) - 1} runs")
 PY
+
+# Load balance: a fluid whose density falls off along z (a stored state,
+# z -> L (z / L)^2) rebalanced every 50 steps gives the one-rank result to
+# round-off, moves the bounds on 3 ranks, and resumes bit for bit across a
+# rebalance (the bounds travel in the checkpoint).
+"$granflow" run "$cooling" --set 'system.cells=[8,8,24]' --set run.steps=10 --set output.positions=final -q \
+  -o "$work/even.h5" || fail "the even state exited with $?"
+/usr/bin/python3 - "$work/even.h5" "$work/lumpy.h5" <<'PY' || failures=$((failures + 1))
+import shutil, sys, h5py
+shutil.copy(sys.argv[1], sys.argv[2])
+with h5py.File(sys.argv[2], "r+") as f:
+    x = f["particles/all/position/value"]
+    frame = x[-1]
+    frame[:, 2] = 24.0 * (frame[:, 2] / 24.0) ** 2
+    x[-1] = frame
+PY
+lumpy=(--set 'system.cells=[8,8,24]' --set run.steps=300 --set initial.from="$work/lumpy.h5" --set srd.temperature=1
+       --set srd.restitution=0.98 --set srd.rotation_angle=10 --set output.positions=all --set fields.every_steps=100
+       --set fields.window=10 --set balance.every_steps=50 --set output.final_checkpoint=true)
+"$granflow" run "$cooling" "${lumpy[@]}" -q -o "$work/lumpy_1.h5" || fail "one rank (lumpy) exited with $?"
+ranks 2 run "$cooling" "${lumpy[@]}" -q -o "$work/lumpy_2.h5" || fail "2 ranks (lumpy) exited with $?"
+agree "$work/lumpy_1.h5" "$work/lumpy_2.h5" 1e-9
+output=$(ranks 3 run "$cooling" "${lumpy[@]}" -o "$work/lumpy_3.h5" 2>&1) || fail "3 ranks (lumpy) exited with $?"
+agree "$work/lumpy_1.h5" "$work/lumpy_3.h5" 1e-9
+moved=$(grep -c "the slabs rebalanced" <<< "$output")
+[[ $moved -ge 2 ]] && echo "ok: the slabs were rebalanced $moved times on 3 ranks" \
+  || fail "the slabs were rebalanced $moved times on 3 ranks (expected at least 2): $output"
+ranks 3 run "$cooling" "${lumpy[@]}" --set run.steps=100 -q -o "$work/lumpy_ext.h5" || fail "3-rank first part exited with $?"
+ranks 3 run "$cooling" "${lumpy[@]}" -q -o "$work/lumpy_ext.h5" --resume || fail "3-rank extension exited with $?"
+agree "$work/lumpy_3.h5" "$work/lumpy_ext.h5" 0
 
 # Failed physics on ranks: a particle stranded on the floor of one rank's
 # slab stops every rank at the same step with exit 3, the diagnosis said
