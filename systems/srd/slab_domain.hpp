@@ -4,7 +4,7 @@
 // coordinate along it lies in [low(r), low(r + 1)). The slabs start equal
 // (differing by at most one cell); where the particles gather unevenly
 // (clusters), `balanced` moves the bounds so that each rank carries about
-// the same particles, as LAMMPS's `balance` does along one dimension.
+// the same load, as LAMMPS's `balance` does along one dimension.
 
 #include <fmt/format.h>
 
@@ -48,9 +48,9 @@ struct SlabDomain {
     return static_cast<int>(std::upper_bound(bounds.begin() + 1, bounds.end(), k) - (bounds.begin() + 1));
   }
 
-  // Bounds that give every rank about the same particles: `per_layer` holds
-  // the particles in each layer of cells; rank r's slab starts at the first
-  // layer before which r / K of them lie, and holds at least one layer.
+  // Bounds that give every rank about the same load: `per_layer` holds the
+  // load of each layer of cells; rank r's slab starts at the first layer
+  // before which r / K of it lies, and holds at least one layer.
   static std::vector<std::int64_t> balanced(const std::vector<double>& per_layer, int ranks) {
     const auto cells = static_cast<std::int64_t>(per_layer.size());
     double total = 0.0;
@@ -67,7 +67,7 @@ struct SlabDomain {
     out.push_back(cells);
     return out;
   }
-  // The particles each rank owns under `bounds`, from the layers' counts.
+  // Each rank's load under `bounds`, from the layers'.
   static std::vector<double> loads(const std::vector<double>& per_layer, const std::vector<std::int64_t>& bounds) {
     std::vector<double> out(bounds.size() - 1, 0.0);
     for (std::size_t r = 0; r + 1 < bounds.size(); ++r)

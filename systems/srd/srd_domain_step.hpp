@@ -96,13 +96,17 @@ struct DomainStepPhysics {
   bool remove_drift = true;             // the thermostat's: false between walls
 };
 
-// When the slabs are rebalanced: every `every_steps` (0: never) the
-// particles per slab are counted, and where the busiest rank holds more
-// than `threshold` times the mean the bounds move (SlabDomain::balanced).
-// `kept` carries the bounds in checkpoints.
+// When the slabs are rebalanced: every `every_steps` (0: never) each
+// slab's load is counted, its particles plus `cell_weight` times its cells
+// (a cell's rotation and reduction cost several particles' whole step), and
+// where the busiest rank's exceeds `threshold` times the mean the bounds
+// move (SlabDomain::balanced). A count, not a timing, so that the bounds and
+// the result do not depend on the machine's speed. `kept` carries the
+// bounds in checkpoints.
 struct DomainBalance {
   std::int64_t every_steps = 0;
   double threshold = 1.1;
+  double cell_weight = 0.0;
   std::shared_ptr<SlabBounds> kept;
 };
 
@@ -612,9 +616,9 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     if (balance_.kept) balance_.kept->bounds = bounds;
   }
 
-  // Counts the particles in every layer along the slab axis (all ranks
-  // alike) and, where the busiest rank holds more than the threshold times
-  // the mean, moves the bounds and passes every particle to its new owner.
+  // Counts the load of every layer along the slab axis (all ranks alike)
+  // and, where the busiest rank's exceeds the threshold times the mean,
+  // moves the bounds and passes every particle to its new owner.
   void rebalance() {
     std::vector<double> per_layer(static_cast<std::size_t>(slab_.cells), 0.0);
     {
@@ -625,6 +629,10 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
       }
     }
     communicating([&] { per_layer = ranks_.add_across(per_layer); });
+    double cells_per_layer = 1.0;
+    for (int a = 0; a < D; ++a)
+      if (a != axis_) cells_per_layer *= static_cast<double>(local_.resource<SrdCells<D>>().cells[a]);
+    for (double& load : per_layer) load += balance_.cell_weight * cells_per_layer;
     const auto busiest = [&](const std::vector<std::int64_t>& bounds) {
       double total = 0.0, most = 0.0;
       for (const double n : SlabDomain::loads(per_layer, bounds)) {
@@ -638,7 +646,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     const auto bounds = SlabDomain::balanced(per_layer, slab_.ranks);
     if (bounds == slab_.bounds) return;
     const auto start = std::chrono::steady_clock::now();
-    spdlog::info("step {}: the slabs rebalanced, the busiest rank's particles from {:.3f} to {:.3f} times the mean",
+    spdlog::info("step {}: the slabs rebalanced, the busiest rank's load from {:.3f} to {:.3f} times the mean",
                  local_.resource<Clock>().step, before, busiest(bounds));
     set_bounds(bounds);
     redistribute();

@@ -82,9 +82,13 @@ inline void declare_srd_keys(ConfigSchema& s, const SrdDefaults& d) {
                "steps between density, velocity and temperature fields to /fields (0: none)")
       .integer("fields.window", 10, 1, 1000000000000, "steps averaged into each field output")
       .integer("balance.every_steps", 500, 0, 1000000000000,
-               "over MPI ranks: steps between counting the particles of each rank's slab (0: the slabs stay equal)")
+               "over MPI ranks: steps between counting each rank's load, its slab's particles and cells (0: the slabs "
+               "stay equal)")
       .real("balance.threshold", 1.1, 1.0, inf,
-            "over MPI ranks: move the slabs' bounds when the busiest rank holds more than this times the mean");
+            "over MPI ranks: move the slabs' bounds when the busiest rank's load exceeds this times the mean")
+      .real("balance.cell_weight", 8.0, 0.0, inf,
+            "over MPI ranks: a cell's share of a slab's load, in particles (its rotation and reduction against a "
+            "particle's whole step; 8 measured at n0 = 10 in 3D)");
   // A finished run (output.final_checkpoint) extends with --resume --set run.steps=...
   s.allow_change_on_resume("run.steps");
   s.unit("srd.time_step", unit::time)
@@ -275,7 +279,8 @@ void add_domain_step(Run& run, const SrdCells<D>& state, const BodyForce<D>& for
   physics.shear_rate = rate;
   physics.thermostat_temperature = c.real("thermostat.temperature");
   physics.remove_drift = !walled;  // as on one rank: walls fix the frame
-  DomainBalance balance{c.integer("balance.every_steps"), c.real("balance.threshold"), std::make_shared<SlabBounds>()};
+  DomainBalance balance{c.integer("balance.every_steps"), c.real("balance.threshold"), c.real("balance.cell_weight"),
+                        std::make_shared<SlabBounds>()};
   run.keep("slab_bounds", *balance.kept);
   const auto interval = static_cast<std::uint64_t>(run.derived("reorder_interval"));
   run.step<SrdDomainStep<D>>(*run.communicator(), c.real("srd.time_step"), rotation_from(c), run.seed(),

@@ -231,8 +231,8 @@ agree "$work/lumpy_1.h5" "$work/lumpy_2.h5" 1e-9
 output=$(ranks 3 run "$cooling" "${lumpy[@]}" -o "$work/lumpy_3.h5" 2>&1) || fail "3 ranks (lumpy) exited with $?"
 agree "$work/lumpy_1.h5" "$work/lumpy_3.h5" 1e-9
 moved=$(grep -c "the slabs rebalanced" <<< "$output")
-[[ $moved -ge 2 ]] && echo "ok: the slabs were rebalanced $moved times on 3 ranks" \
-  || fail "the slabs were rebalanced $moved times on 3 ranks (expected at least 2): $output"
+[[ $moved -ge 1 ]] && echo "ok: the slabs were rebalanced $moved times on 3 ranks" \
+  || fail "the slabs were not rebalanced on 3 ranks: $output"
 ranks 3 run "$cooling" "${lumpy[@]}" --set run.steps=100 -q -o "$work/lumpy_ext.h5" || fail "3-rank first part exited with $?"
 ranks 3 run "$cooling" "${lumpy[@]}" -q -o "$work/lumpy_ext.h5" --resume || fail "3-rank extension exited with $?"
 agree "$work/lumpy_3.h5" "$work/lumpy_ext.h5" 0

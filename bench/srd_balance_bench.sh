@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# What load balance gains for one SRD fluid over 2 MPI ranks whose density
+# falls off along the slab axis: gsrd_cooling from a stored state of 2·10^6
+# particles (50 x 50 x 80 cells, n0 = 10, elastic, kT = 1) with
+# z -> L (z / L)^2, so that the lower half holds 71 % of them (the busiest
+# slab 1.41 times the mean). One
+# thread per rank; the slabs fixed (balance.every_steps = 0) and rebalanced
+# every 10 steps take turns in every round (this machine's speed drifts).
+# Prints each round's time per step (the step systems' total in /profile),
+# the medians and their ratio.
+#
+#   bench/srd_balance_bench.sh [GRANFLOW] [ROUNDS] [STEPS]
+#   (default: build/granflow, 5 rounds, 200 steps; a -DGRANFLOW_MPI=ON build)
+set -eu
+root=$(cd "$(dirname "$0")/.." && pwd)
+granflow=${1:-$root/build/granflow}
+rounds=${2:-5}
+steps=${3:-200}
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+cooling="$root/scenarios/gsrd_cooling.toml"
+"$granflow" run "$cooling" --set 'system.cells=[50,50,80]' --set run.steps=1 --set output.positions=final -q \
+  -o "$scratch/even.h5"
+/usr/bin/python3 - "$scratch/even.h5" "$scratch/lumpy.h5" <<'PY'
+import shutil, sys, h5py
+shutil.copy(sys.argv[1], sys.argv[2])
+with h5py.File(sys.argv[2], "r+") as f:
+    x = f["particles/all/position/value"]
+    frame = x[-1]
+    frame[:, 2] = 80.0 * (frame[:, 2] / 80.0) ** 2
+    x[-1] = frame
+    # kT = 1 (a stored state's velocities replace srd.temperature): the
+    # profile then spreads by a few cells in the run, not across the box.
+    v = f["particles/all/velocity/value"]
+    speeds = v[-1]
+    v[-1] = speeds / (speeds ** 2).mean() ** 0.5
+PY
+common=(--set 'system.cells=[50,50,80]' --set initial.from="$scratch/lumpy.h5" --set srd.restitution=1
+        --set run.steps="$steps" --set output.points_per_decade=1 -q --threads 1)
+step_seconds() {  # step_seconds FILE: seconds per step of the slab step
+  /usr/bin/python3 - "$1" "$steps" <<'PY'
+import sys, h5py
+f = h5py.File(sys.argv[1], "r")
+names = [n.decode() if isinstance(n, bytes) else n for n in f["profile/system"][()]]
+print(dict(zip(names, f["profile/total_seconds"][()])).get("srd_domain_step", 0.0) / int(sys.argv[2]))
+PY
+}
+fixed=() balanced=()
+for round in $(seq 1 "$rounds"); do
+  mpirun -np 2 --oversubscribe --bind-to none "$granflow" run "$cooling" "${common[@]}" --set balance.every_steps=0 \
+    -o "$scratch/fixed.h5"
+  mpirun -np 2 --oversubscribe --bind-to none "$granflow" run "$cooling" "${common[@]}" --set balance.every_steps=10 \
+    -o "$scratch/balanced.h5"
+  fixed+=("$(step_seconds "$scratch/fixed.h5")")
+  balanced+=("$(step_seconds "$scratch/balanced.h5")")
+  echo "round $round: fixed slabs ${fixed[-1]} s/step, rebalanced ${balanced[-1]} s/step"
+done
+/usr/bin/python3 - "${fixed[*]}" "${balanced[*]}" <<'PY'
+import sys, statistics
+fixed = [float(x) for x in sys.argv[1].split()]
+balanced = [float(x) for x in sys.argv[2].split()]
+ratios = [a / b for a, b in zip(fixed, balanced)]
+print(f"median fixed {statistics.median(fixed) * 1e3:.1f} ms/step, rebalanced {statistics.median(balanced) * 1e3:.1f} ms/step")
+print(f"speed-up: median of the rounds' ratios {statistics.median(ratios):.3f} (range {min(ratios):.3f}-{max(ratios):.3f})")
+PY
