@@ -22,20 +22,9 @@ trap 'rm -rf "$scratch"' EXIT
 cooling="$root/scenarios/gsrd_cooling.toml"
 "$granflow" run "$cooling" --set 'system.cells=[50,50,80]' --set run.steps=1 --set output.positions=final -q \
   -o "$scratch/even.h5"
-/usr/bin/python3 - "$scratch/even.h5" "$scratch/lumpy.h5" <<'PY'
-import shutil, sys, h5py
-shutil.copy(sys.argv[1], sys.argv[2])
-with h5py.File(sys.argv[2], "r+") as f:
-    x = f["particles/all/position/value"]
-    frame = x[-1]
-    frame[:, 2] = 80.0 * (frame[:, 2] / 80.0) ** 2
-    x[-1] = frame
-    # kT = 1 (a stored state's velocities replace srd.temperature): the
-    # profile then spreads by a few cells in the run, not across the box.
-    v = f["particles/all/velocity/value"]
-    speeds = v[-1]
-    v[-1] = speeds / (speeds ** 2).mean() ** 0.5
-PY
+# kT = 1 (a stored state's velocities replace srd.temperature): the
+# profile then spreads by a few cells in the run, not across the box.
+/usr/bin/python3 "$root/tools/denser_at_one_end.py" "$scratch/even.h5" "$scratch/lumpy.h5" --temperature 1
 common=(--set 'system.cells=[50,50,80]' --set initial.from="$scratch/lumpy.h5" --set srd.restitution=1
         --set run.steps="$steps" --set output.points_per_decade=1 -q --threads 1)
 step_seconds() {  # step_seconds FILE: seconds per step of the slab step
