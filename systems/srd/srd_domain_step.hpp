@@ -18,9 +18,15 @@
 //  - each cell's random rotation, and the wall's ghost particles in a cell
 //    it cuts, are keyed by its cell of the whole grid (SrdCells::cell_key),
 //    so every rank draws one rank's numbers;
-//  - the global thermostat and the energy ledger add the sums of each
-//    rank's own particles and cells (a straddling cell is the rank's that
-//    holds its lower edge) over the ranks, in rank order.
+//  - the global thermostat, the energy ledger and the every-step samplers'
+//    sums (SrdStepSums) add the sums of each rank's own particles and cells
+//    (a straddling cell is the rank's that holds its lower edge) over the
+//    ranks, in rank order.
+//
+// Every balance.every_steps the ranks count each slab's load and, where it
+// is uneven, move the bounds (DomainBalance, SlabDomain::balanced) and pass
+// every particle to its new owner; where the shear planes lie at the slabs'
+// periodic edge (2D), a copy sent across it is moved into its image there.
 //
 // What stays the same as on one rank and what does not: the random numbers,
 // the cells and the particles in each are the same; a straddling cell's
@@ -315,8 +321,10 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   // This rank's particles of the whole World (the initial state, or the one
   // a checkpoint restored), in the World's order.
   void scatter(View view) {
-    // A checkpoint's bounds, where it was written on as many ranks.
+    // A checkpoint's bounds, where it was written on as many ranks; else
+    // the equal slabs, which the next checkpoint then carries.
     if (balance_.kept && balance_.kept->bounds.size() == slab_.bounds.size()) set_bounds(balance_.kept->bounds);
+    if (balance_.kept) balance_.kept->bounds = slab_.bounds;
     const auto& x = view.template read<Position<D>>();
     const auto& v = view.template read<Velocity<D>>();
     ids_ = view.template has<ParticleId>();
