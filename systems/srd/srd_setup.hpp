@@ -98,7 +98,9 @@ inline void declare_srd_keys(ConfigSchema& s, const SrdDefaults& d) {
       .unit("system.cells", unit::none)
       .unit("shear.rate", unit::rate)
       .unit("thermostat.temperature", unit::energy)
-      .unit("srd.restitution", unit::none);
+      .unit("srd.restitution", unit::none)
+      .unit("balance.threshold", unit::none)
+      .unit("balance.cell_weight", unit::none);
   declare_stored_start_keys(s);
 }
 
