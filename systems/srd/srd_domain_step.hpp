@@ -181,6 +181,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     const double start = clock.time;
     clock.advance(dt_);
     SrdStreaming<D>::set_shear(local_.resource<SrdCells<D>>(), physics_.shear_rate, clock.time);
+    shear_ = local_.resource<SrdCells<D>>().shear;
     shift_.run(local_);  // first: it tells which particles are ghosts
     timed(0, [&] { stream_and_sort_out(start); });
     timed(1, [&] { migrate(); });
@@ -368,7 +369,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   // the particle is where a one-rank grid's cell across the plane sees it
   // (srd_kernels.hpp: cell_of, image_velocity_x).
   void pack(const Columns& c, std::size_t i, std::vector<double>& out, double offset) const {
-    const Shear& shear = local_.resource<SrdCells<D>>().shear;
+    const Shear& shear = shear_;
     const double image = axis_ == 1 && shear.velocity != 0.0 ? (offset > 0.0 ? 1.0 : (offset < 0.0 ? -1.0 : 0.0)) : 0.0;
     for (int a = 0; a < D; ++a) {
       if (a == axis_) out.push_back(c.x[i][a] + offset);
@@ -808,6 +809,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   unsigned periodic_ = 0;  // bit a: axis a of the whole box wraps
   bool accounts_ = false;  // walls or the energy ledger: per-step sums over the ranks
   DomainBalance balance_;
+  Shear shear_;  // this step's, for packing: read per particle, not looked up in local_ each time
   bool host_current_ = true;
   std::vector<double> to_below_, to_above_;  // this round's ghosts for the neighbours, packed
   std::vector<double> arrived_ghosts_, kept_;  // this step's ghosts: the neighbours' and this rank's copies
