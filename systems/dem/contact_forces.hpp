@@ -83,11 +83,49 @@ class DemContactForces : public DemContactForcesBase<D> {
     evaluate<false>(view, in);
   }
 
- private:
   // Partial sums per slab of a wall's contacts: elastic, dissipated, power,
   // contacts, the force the wall is pressed with; of the slab's pairs:
   // elastic, dissipated, contacts.
   static constexpr std::size_t wall_sums = 5, pair_sums = 3;
+
+  // For one rank of a system spread over MPI ranks (dem_domain_step.hpp),
+  // whose lists are the whole system's from layer `first_layer` on: the
+  // passes of one parity are the whole system's, and whether the masses and
+  // radii are all alike is the whole system's answer, so that every sphere
+  // sums its forces in the order, and with the kernel, of one rank.
+  void as_part_of_whole(std::size_t first_layer, bool uniform_mass, bool same_radius) {
+    parity_offset_ = first_layer % 2;
+    uniform_mass_ = uniform_mass;
+    same_radius_ = same_radius;
+    mass_checked_ = true;
+  }
+  // The last evaluation's sums per slab: of the pairs, pair_sums each; of
+  // wall w, wall_sums each.
+  const std::vector<double>& pair_slab_sums() const { return pair_partial_; }
+  const std::vector<std::vector<double>>& wall_slab_sums() const { return wall_partial_; }
+
+  // The totals of `in` from the sums per slab, added in one order whatever
+  // the threads or ranks that made them.
+  static void add_slab_sums(const std::vector<double>& pair_partial, const std::vector<std::vector<double>>& wall_partial,
+                            std::size_t slabs, DemInteractions<D>& in) {
+    const std::size_t walls = wall_partial.size();
+    double wall_total[wall_sums] = {}, pair_total[pair_sums] = {};
+    in.wall_force.assign(walls, 0.0);
+    for (std::size_t wi = 0; wi < walls; ++wi)
+      for (std::size_t k = 0; k < wall_sums * slabs; k += wall_sums) {
+        for (std::size_t s = 0; s < wall_sums - 1; ++s) wall_total[s] += wall_partial[wi][k + s];
+        in.wall_force[wi] += wall_partial[wi][k + wall_sums - 1];
+      }
+    for (std::size_t k = 0; k < slabs; ++k)
+      for (std::size_t s = 0; s < pair_sums; ++s) pair_total[s] += pair_partial[pair_sums * k + s];
+    in.elastic = wall_total[0] + pair_total[0];
+    in.dissipation_power = wall_total[1] + pair_total[1];
+    in.wall_power = wall_total[2];
+    in.wall_contacts = static_cast<std::uint64_t>(std::llround(wall_total[3]));
+    in.contacts = static_cast<std::uint64_t>(std::llround(pair_total[2]));
+  }
+
+ private:
   static constexpr std::size_t block = 256;   // pairs evaluated together before their forces are handed out
 
   template <bool Friction>
@@ -131,26 +169,13 @@ class DemContactForces : public DemContactForcesBase<D> {
       std::vector<std::size_t> from(count);
       for (std::size_t d = 0; d < count; ++d) {
         const std::size_t low = std::max<std::size_t>(domains.slab[d], first_slab), high = domains.slab[d + 1];
-        from[d] = low + (low % 2 != parity ? 1 : 0);
+        from[d] = low + ((low + parity_offset_) % 2 != parity ? 1 : 0);
         pieces[d] = from[d] < high ? (high - from[d] + 1) / 2 : 0;
       }
       for_each_piece(pieces, [&](std::size_t d, std::size_t k) { slab_pairs<Friction>(view, in, nl, from[d] + 2 * k); });
     }
     if (nl.periodic_slabs) slab_pairs<Friction>(view, in, nl, 0);
-    double wall_total[wall_sums] = {}, pair_total[pair_sums] = {};
-    in.wall_force.assign(walls, 0.0);
-    for (std::size_t wi = 0; wi < walls; ++wi)
-      for (std::size_t k = 0; k < wall_sums * slabs; k += wall_sums) {
-        for (std::size_t s = 0; s < wall_sums - 1; ++s) wall_total[s] += wall_partial_[wi][k + s];
-        in.wall_force[wi] += wall_partial_[wi][k + wall_sums - 1];
-      }
-    for (std::size_t k = 0; k < slabs; ++k)
-      for (std::size_t s = 0; s < pair_sums; ++s) pair_total[s] += pair_partial_[pair_sums * k + s];
-    in.elastic = wall_total[0] + pair_total[0];
-    in.dissipation_power = wall_total[1] + pair_total[1];
-    in.wall_power = wall_total[2];
-    in.wall_contacts = static_cast<std::uint64_t>(std::llround(wall_total[3]));
-    in.contacts = static_cast<std::uint64_t>(std::llround(pair_total[2]));
+    add_slab_sums(pair_partial_, wall_partial_, slabs, in);
   }
 
   // The pairs of one slab, in order: each pair's force goes to both its spheres.
@@ -392,6 +417,7 @@ class DemContactForces : public DemContactForcesBase<D> {
   std::vector<std::pair<double, double>> wall_motion_;  // per wall: position and velocity now
   std::vector<double> pair_partial_;
   bool mass_checked_ = false, uniform_mass_ = false, same_radius_ = false;
+  std::size_t parity_offset_ = 0;  // of slab 0's layer in the whole system's lists
 };
 
 

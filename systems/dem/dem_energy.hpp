@@ -39,6 +39,13 @@ struct DemLedger : Stateful {
   StateMap save_state() const override {
     return {{"ledger", {injected, dissipated, last_wall_power, last_dissipation_power}}};
   }
+  // One step's trapezoid, from the powers the force pass booked at its end.
+  void book(double dt, double wall_power, double dissipation_power) {
+    injected += 0.5 * dt * (last_wall_power + wall_power);
+    dissipated += 0.5 * dt * (last_dissipation_power + dissipation_power);
+    last_wall_power = wall_power;
+    last_dissipation_power = dissipation_power;
+  }
   void restore_state(const StateMap& state) override {
     const auto& s = state.at("ledger");
     if (s.size() != 4) throw std::invalid_argument("checkpoint DEM energy ledger has the wrong size");
@@ -58,11 +65,7 @@ class DemEnergyAccount : public SystemOf<Reads<DemInteractions<D>>, Writes<DemLe
   std::string name() const override { return "dem_energy_account"; }
   void run_on(View view) override {
     const auto& in = view.template read<DemInteractions<D>>();
-    auto& ledger = view.template write<DemLedger>();
-    ledger.injected += 0.5 * dt_ * (ledger.last_wall_power + in.wall_power);
-    ledger.dissipated += 0.5 * dt_ * (ledger.last_dissipation_power + in.dissipation_power);
-    ledger.last_wall_power = in.wall_power;
-    ledger.last_dissipation_power = in.dissipation_power;
+    view.template write<DemLedger>().book(dt_, in.wall_power, in.dissipation_power);
   }
 
  private:

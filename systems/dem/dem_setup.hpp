@@ -31,6 +31,7 @@
 #include "engine/core/units.hpp"
 #include "engine/run/run.hpp"
 #include "systems/dem/contact_forces.hpp"
+#include "systems/dem/dem_domain_step.hpp"
 #include "systems/dem/dem_energy.hpp"
 #include "systems/dem/dem_watchdog.hpp"
 #include "systems/dem/neighbour_list.hpp"
@@ -38,6 +39,7 @@
 #include "systems/dem/time_step.hpp"
 #include "systems/dem/velocity_verlet.hpp"
 #include "systems/dem/wall_observer.hpp"
+#include "systems/geometry/slab_domain.hpp"
 #include "systems/initial/stored_start.hpp"
 #include "systems/observables/particle_frames.hpp"
 
@@ -86,6 +88,7 @@ inline void declare_dem_keys(ConfigSchema& s, const DemDefaults& d) {
       .choice("run.integrator", "velocity_verlet", {"velocity_verlet", "position_verlet"},
               "velocity Verlet, or position Verlet with the backward-difference velocity")
       .real("output.interval", d.output_interval, 0.0, inf, "time between outputs", true);
+  declare_slab_balance_keys(s, 1000, "its slab's spheres, at the next list build");
   ConfigSchema wall;
   wall.choice("axis", "z", {"x", "y", "z"}, "the axis the wall is perpendicular to")
       .real("position", 0.0, 0.0, inf, "its position along that axis (below the middle: spheres above it)")
@@ -304,6 +307,34 @@ inline ContactDemand contact_demand(const World& world, const std::vector<DemWal
   return demand;
 }
 
+// The step over MPI ranks (dem_domain_step.hpp) in place of the chain, for
+// what it offers: velocity Verlet on spheres kept in cell order, in a box
+// closed along z (the slabs' axis); the rest is refused, naming what to
+// change. Call once the whole system's lists are built.
+inline void add_domain_step(Run& run, const std::array<bool, 3>& periodic, double dt) {
+  const Config& c = run.config();
+  const int ranks = run.communicator()->size();
+  const auto refuse = [&](const std::string& what) {
+    throw ConfigError(fmt::format("{} is not offered over several ranks (this run has {}); run this one without mpirun",
+                                  what, ranks));
+  };
+  if (c.text("run.integrator") != "velocity_verlet")
+    refuse(fmt::format("run.integrator = \"{}\" (velocity_verlet is)", c.text("run.integrator")));
+  if (!c.boolean("neighbour.reorder"))
+    refuse("neighbour.reorder = false (the ranks keep their spheres in cell order to sum as one rank does)");
+  if (periodic[2]) refuse("a box periodic along z (the slabs lie along z)");
+  World& world = run.world();
+  const auto& radii = world.component<Radius>().values;
+  const double largest = radii.empty() ? 0.0 : *std::max_element(radii.begin(), radii.end());
+  const CellGrid<3> layers =
+      list_cells(world.resource<Box<3>>(), 2.0 * largest + world.resource<NeighbourList<3>>().skin, world.size());
+  run.step<DemDomainStep>(*run.communicator(), dt, layers,
+                          DemDomainBalance{c.integer("balance.every_steps"), c.real("balance.threshold")});
+  run.mark_distributed();
+  run.derive("ranks", static_cast<double>(ranks));
+  run.derive("slab_layers", static_cast<double>(layers.cells(2)));
+}
+
 // The resources, the forces of the initial state, the time step (chosen
 // and checked against every contact, time_step.hpp), the step chain with
 // its watchdog, the energy and wall observers at `outputs`, the particle
@@ -412,7 +443,9 @@ inline double add_dem_step(Run& run, const std::array<double, 3>& box, const std
   std::vector<std::string> boundary;
   for (bool p : periodic) boundary.push_back(p ? "periodic" : "none");
   run.box(std::vector<double>(box.begin(), box.end()), boundary);
-  if (c.text("run.integrator") == "position_verlet") {
+  if (run.communicator()) {
+    add_domain_step(run, periodic, dt);
+  } else if (c.text("run.integrator") == "position_verlet") {
     // A resumed run has its previous positions from the checkpoint.
     if (!world.has_component<PreviousPosition<D>>()) DemPositionVerlet<D>::start(world, dt);
     run.step<DemPositionVerlet<D>>(dt);
@@ -424,7 +457,7 @@ inline double add_dem_step(Run& run, const std::array<double, 3>& box, const std
     run.step<DemContactForces<D>>();
     run.step<DemKick<D>>(dt);
   }
-  run.step<DemEnergyAccount<D>>(dt);
+  if (!run.communicator()) run.step<DemEnergyAccount<D>>(dt);
   run.observe<DemEnergyObserver<D>>(outputs);
   run.keep("energy_watch", run.observe<DemEnergyWatch<D>>(outputs));
   run.observe<DemWallObserver<D>>(outputs);

@@ -19,7 +19,9 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "components/clock.hpp"
@@ -57,25 +59,43 @@ void fail_run(View<Reads<Clock, DemWatch<D>>, Writes<RunControl>> view, const st
                   view.template read<DemWatch<D>>().advice));
 }
 
-// Called when the drift found a sphere out of bounds: names the first one.
+// A sphere beyond the walls' reach or not finite: which, along which axis,
+// where.
+struct EscapedSphere {
+  std::uint64_t sphere = 0;
+  int axis = 0;
+  double position = 0.0;
+};
+
+// The first of spheres [from, to) that escaped, if one did.
 template <int D>
-void report_escaped_sphere(View<Reads<Clock, DemWatch<D>, Position<D>, ParticleId>, Writes<RunControl>> view) {
-  const auto& x = view.template read<Position<D>>();
-  const auto& watch = view.template read<DemWatch<D>>();
-  const auto* id = view.template has<ParticleId>() ? &view.template read<ParticleId>() : nullptr;
-  constexpr const char* axis_name[] = {"x", "y", "z"};
-  for (std::size_t i = 0; i < view.size(); ++i)
+std::optional<EscapedSphere> first_escaped(const Position<D>& x, const ParticleId* id, const DemWatch<D>& watch,
+                                           std::size_t from, std::size_t to) {
+  for (std::size_t i = from; i < to; ++i)
     for (int a = 0; a < D; ++a) {
       const double p = x[i][a];
       if (p >= watch.lower[a] && p <= watch.upper[a]) continue;
-      const auto sphere = id ? (*id)[i] : i;
-      if (!std::isfinite(p))
-        return fail_run<D>(view, fmt::format("sphere {} has a position that is not finite ({} = {})", sphere,
-                                              axis_name[a], p));
-      return fail_run<D>(view, fmt::format("sphere {} went through a wall: {} = {:.6g}, outside the walls' reach "
-                                            "[{:.6g}, {:.6g}]",
-                                            sphere, axis_name[a], p, watch.lower[a], watch.upper[a]));
+      return EscapedSphere{id ? (*id)[i] : i, a, p};
     }
+  return std::nullopt;
+}
+
+template <int D>
+std::string escape_diagnosis(const EscapedSphere& e, const DemWatch<D>& watch) {
+  constexpr const char* axis_name[] = {"x", "y", "z"};
+  if (!std::isfinite(e.position))
+    return fmt::format("sphere {} has a position that is not finite ({} = {})", e.sphere, axis_name[e.axis], e.position);
+  return fmt::format("sphere {} went through a wall: {} = {:.6g}, outside the walls' reach [{:.6g}, {:.6g}]", e.sphere,
+                     axis_name[e.axis], e.position, watch.lower[e.axis], watch.upper[e.axis]);
+}
+
+// Called when the drift found a sphere out of bounds: names the first one.
+template <int D>
+void report_escaped_sphere(View<Reads<Clock, DemWatch<D>, Position<D>, ParticleId>, Writes<RunControl>> view) {
+  const auto& watch = view.template read<DemWatch<D>>();
+  const auto* id = view.template has<ParticleId>() ? &view.template read<ParticleId>() : nullptr;
+  if (const auto e = first_escaped<D>(view.template read<Position<D>>(), id, watch, 0, view.size()))
+    fail_run<D>(view, escape_diagnosis<D>(*e, watch));
 }
 
 // The energy balance at every output, after observe_dem_energy.

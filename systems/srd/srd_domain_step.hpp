@@ -72,7 +72,7 @@
 #include "systems/srd/cell_reduction.hpp"
 #include "systems/srd/grid_shift.hpp"
 #include "systems/srd/rotation.hpp"
-#include "systems/srd/slab_domain.hpp"
+#include "systems/geometry/slab_domain.hpp"
 #include "systems/srd/srd_cells.hpp"
 #include "systems/srd/srd_kernels.hpp"
 #include "systems/srd/srd_step_sums.hpp"

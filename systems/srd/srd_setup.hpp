@@ -25,6 +25,7 @@
 #include "engine/core/stream_ids.hpp"
 #include "engine/core/units.hpp"
 #include "engine/run/run.hpp"
+#include "systems/geometry/slab_domain.hpp"
 #include "systems/initial/stored_start.hpp"
 #include "systems/srd/cell_binning.hpp"
 #include "systems/srd/cell_reduction.hpp"
@@ -81,11 +82,6 @@ inline void declare_srd_keys(ConfigSchema& s, const SrdDefaults& d) {
       .integer("fields.every_steps", 0, 0, 1000000000000,
                "steps between density, velocity and temperature fields to /fields (0: none)")
       .integer("fields.window", 10, 1, 1000000000000, "steps averaged into each field output")
-      .integer("balance.every_steps", 500, 0, 1000000000000,
-               "over MPI ranks: steps between counting each rank's load, its slab's particles and cells (0: the slabs "
-               "stay equal)")
-      .real("balance.threshold", 1.1, 1.0, inf,
-            "over MPI ranks: move the slabs' bounds when the busiest rank's load exceeds this times the mean")
       .real("balance.cell_weight", 8.0, 0.0, inf,
             "over MPI ranks: a cell's share of a slab's load, in particles (its rotation and reduction against a "
             "particle's whole step; 8 measured at n0 = 10 in 3D)");
@@ -99,8 +95,8 @@ inline void declare_srd_keys(ConfigSchema& s, const SrdDefaults& d) {
       .unit("shear.rate", unit::rate)
       .unit("thermostat.temperature", unit::energy)
       .unit("srd.restitution", unit::none)
-      .unit("balance.threshold", unit::none)
       .unit("balance.cell_weight", unit::none);
+  declare_slab_balance_keys(s, 500, "its slab's particles and cells");
   declare_stored_start_keys(s);
 }
 

@@ -1,22 +1,26 @@
 #pragma once
-// How an SRD grid is split over K ranks: slabs of whole cells along one
-// periodic axis (srd_setup.hpp picks it), rank r owning the particles whose
-// coordinate along it lies in [low(r), low(r + 1)). The slabs start equal
-// (differing by at most one cell); where the particles gather unevenly
-// (clusters), `balanced` moves the bounds so that each rank carries about
-// the same load, as LAMMPS's `balance` does along one dimension.
+// How one system's cells are split over K MPI ranks: slabs of whole layers
+// of cells along one axis (an SRD grid along a periodic axis, srd_setup.hpp;
+// the soft spheres' neighbour cells along z, dem_domain_step.hpp), rank r
+// owning the particles whose layer lies in [low(r), low(r + 1)). The slabs
+// start equal (differing by at most one layer); where the particles gather
+// unevenly (clusters, a bed under gravity), `balanced` moves the bounds so
+// that each rank carries about the same load, as LAMMPS's `balance` does
+// along one dimension.
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "engine/core/config.hpp"
 #include "engine/core/state_map.hpp"
+#include "engine/core/units.hpp"
 
-namespace granflow::srd {
+namespace granflow {
 
 struct SlabDomain {
   int rank = 0;
@@ -25,13 +29,15 @@ struct SlabDomain {
   // Rank r owns the layers of cells [bounds[r], bounds[r + 1]).
   std::vector<std::int64_t> bounds;
 
-  // axis_name: of the slab axis, for the message. The slabs start equal.
-  SlabDomain(int this_rank, int rank_count, std::int64_t cells_along, const char* axis_name)
+  // axis_name: of the slab axis, cells_from: what sets the cells (both for
+  // the message). The slabs start equal.
+  SlabDomain(int this_rank, int rank_count, std::int64_t cells_along, const char* axis_name,
+             const char* cells_from = "system.cells")
       : rank(this_rank), ranks(rank_count), cells(cells_along) {
     if (ranks > cells)
-      throw ConfigError(fmt::format("{} ranks cannot split {} cells along {} (system.cells): a rank's slab must hold "
+      throw ConfigError(fmt::format("{} ranks cannot split {} cells along {} ({}): a rank's slab must hold "
                                     "at least one whole cell; use at most {} ranks or more cells",
-                                    ranks, cells, axis_name, cells));
+                                    ranks, cells, axis_name, cells_from, cells));
     for (int r = 0; r <= ranks; ++r) bounds.push_back(cells * r / ranks);
   }
 
@@ -76,6 +82,17 @@ struct SlabDomain {
   }
 };
 
+// When the slabs are rebalanced over MPI ranks: how often each rank's load
+// is counted (`load`: what it counts, for the description) and how uneven
+// it may grow. Declared once for every method that spreads a system so.
+inline void declare_slab_balance_keys(ConfigSchema& s, std::int64_t every_steps, const char* load) {
+  s.integer("balance.every_steps", every_steps, 0, 1000000000000,
+            fmt::format("over MPI ranks: steps between counting each rank's load, {} (0: the slabs stay equal)", load))
+      .real("balance.threshold", 1.1, 1.0, std::numeric_limits<double>::infinity(),
+            "over MPI ranks: move the slabs' bounds when the busiest rank's load exceeds this times the mean");
+  s.unit("balance.threshold", unit::none);
+}
+
 // The slab bounds a checkpoint carries, so that a run resumed on as many
 // ranks continues with the bounds it had (and stays bit for bit the same).
 struct SlabBounds : Stateful {
@@ -89,4 +106,4 @@ struct SlabBounds : Stateful {
   }
 };
 
-}  // namespace granflow::srd
+}  // namespace granflow

@@ -1,0 +1,780 @@
+#pragma once
+// The soft-sphere step of one system spread over the ranks of an MPI job
+// (`mpirun -np K granflow run`). The neighbour lists' cells come in layers
+// along z (neighbour_list.hpp), each at least one interaction range (two
+// radii and the skin) high; rank r owns the spheres of a slab of whole
+// layers (slab_domain.hpp) and holds copies of the layer just below and
+// just above it: every sphere within reach of one of its own. Per step:
+//
+//  - velocity Verlet's half kick and drift of every sphere the rank holds;
+//  - the ranks agree whether some sphere moved half the skin since the
+//    last build (and on a signal), in one sum;
+//  - if not, each rank sends the positions and velocities of its lowest
+//    and highest layer to the neighbours whose copies they are;
+//  - if so: the watchdog's check of every position, then the spheres that
+//    left the slab go to their new owner (and, every balance.every_steps,
+//    the slabs move so that each holds about as many spheres), the copies
+//    of the edge layers are sent anew, and the lists are built over the
+//    spheres the rank holds;
+//  - the contact forces, the second half kick, and the energy terms of the
+//    step, summed per layer and added over the layers in their order.
+//
+// Every sphere's force is summed as on one rank, bit for bit: a rank holds
+// its spheres in the whole system's cell order (each carries its index in
+// the whole system at the last build, which orders the spheres of a cell at
+// the next), so its lists of the layers it owns, and of the layer below,
+// are the whole system's, pair for pair and in order; the force pass takes
+// the layers of one parity at a time as on one rank; the tangential
+// springs' history travels with the first sphere of each pair, keyed by the
+// two spheres' ids. The pairs across a slab boundary are evaluated by both
+// ranks, each keeping the force on its own sphere (no reverse
+// communication). The result does not depend on the number of ranks, the
+// slab bounds or the threads; a run resumes bit for bit on any number of
+// ranks.
+//
+// Observers and checkpoints read the World, which here is the whole system:
+// synchronise_host gathers every rank's spheres into it, in rank order,
+// which is the whole system's order, with the neighbour lists, so that a
+// checkpoint is that of one rank and resumes on any number of ranks.
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <numeric>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "components/angular_velocity.hpp"
+#include "components/box.hpp"
+#include "components/clock.hpp"
+#include "components/force.hpp"
+#include "components/image_count.hpp"
+#include "components/mass.hpp"
+#include "components/particle_id.hpp"
+#include "components/position.hpp"
+#include "components/radius.hpp"
+#include "components/torque.hpp"
+#include "components/velocity.hpp"
+#include "engine/core/communicator.hpp"
+#include "engine/core/phase_times.hpp"
+#include "engine/core/system.hpp"
+#include "engine/core/system_catalogue.hpp"
+#include "engine/core/view.hpp"
+#include "engine/core/world.hpp"
+#include "engine/run/run_control.hpp"
+#include "systems/dem/contact_forces.hpp"
+#include "systems/dem/dem_energy.hpp"
+#include "systems/dem/dem_watchdog.hpp"
+#include "systems/dem/neighbour_list.hpp"
+#include "systems/dem/velocity_verlet.hpp"
+#include "systems/geometry/cell_grid.hpp"
+#include "systems/geometry/slab_domain.hpp"
+
+namespace granflow::dem {
+
+inline const SystemDescription dem_domain_step_description{
+    "dem_domain_step",
+    "the soft-sphere step over MPI ranks: slabs of neighbour-list layers along z, copies of the edge layers, "
+    "migration at list builds"};
+
+// Each sphere's index in the whole system at the last list build (exact in
+// a double below 2^53): the order of a cell's spheres at the next build.
+struct WholeIndex : Column<double> {
+  static constexpr const char* key = "dem_whole_index";
+};
+
+// When the slabs are rebalanced: at the first list build after every
+// `every_steps` steps (0: never), where the rank with the most spheres
+// holds more than `threshold` times the mean.
+struct DemDomainBalance {
+  std::int64_t every_steps = 0;
+  double threshold = 1.1;
+};
+
+using DemDomainStepBase =
+    SystemOf<Reads<Box<3>, DemWatch<3>>,
+             Writes<EveryColumn, Clock, NeighbourList<3>, DemInteractions<3>, DemLedger, RunControl>>;
+
+class DemDomainStep : public DemDomainStepBase {
+ public:
+  // `layers`: the whole system's list cells (list_cells of its box, range
+  // and sphere count), whose layers along z the slabs are made of.
+  DemDomainStep(const Communicator& ranks, double dt, const CellGrid<3>& layers, DemDomainBalance balance)
+      : ranks_(ranks),
+        dt_(dt),
+        grid_(layers),
+        slab_(ranks.rank(), ranks.size(), layers.cells(2), "z",
+              "the neighbour-list cells, each at least 2 particle.radius + neighbour.skin high, of system.box"),
+        balance_(balance),
+        kick_drift_(dt),
+        kick_(dt) {
+    local_.emplace_resource<Clock>();
+  }
+
+  std::string name() const override { return "dem_domain_step"; }
+
+  void run_on(View view) override {
+    if (!scattered_) scatter(view);
+    times_.timed(0, [&] { kick_drift_.run(local_); });
+    view.template write<Clock>() = local_.resource<Clock>();
+    const double moved = largest_owned_displacement();
+    const auto& nl = local_.resource<NeighbourList<3>>();
+    std::int64_t builders = 0;
+    times_.timed(1, [&] { builders = ranks_.sum_agreeing_on_interrupt(!(moved <= 0.25 * nl.skin * nl.skin) ? 1 : 0); });
+    if (builders > 0) {
+      if (!rebuild(view)) return;
+    } else {
+      times_.timed(5, [&] { refresh_copies(); });
+    }
+    times_.timed(6, [&] { forces_.run(local_); });
+    times_.timed(7, [&] { add_energy_terms(view); });
+    times_.timed(8, [&] { kick_.run(local_); });
+    host_current_ = false;
+  }
+
+  // Every rank's spheres into the whole World, in the whole system's order,
+  // with the lists as one rank would hold them.
+  void synchronise_host(World& whole) override {
+    if (host_current_ || !scattered_) return;
+    times_.timed(9, [&] { gather_into(whole); });
+    host_current_ = true;
+  }
+
+  std::vector<ProfileEntry> device_profile() const override { return times_.entries("dem_domain_step", ranks_); }
+
+ private:
+  // A sphere packed for another rank: its whole index, id, mass, radius,
+  // position and velocity, images, spin and wall springs where the run has
+  // them, then its pairs' springs (partner id and shear each).
+  std::size_t fixed_width() const {
+    return 10 + (images_ ? 3 : 0) + (rotating_ ? 3 + 3 * walls_ : 0);
+  }
+
+  // ---- the start: this rank's part of the whole World -------------------
+
+  void scatter(View view) {
+    const auto& whole_nl = view.template read<NeighbourList<3>>();
+    const std::size_t layers = static_cast<std::size_t>(grid_.cells(2));
+    if (!whole_nl.built() || whole_nl.slabs.size() != layers + 1 || !whole_nl.reorder)
+      throw std::logic_error("the soft-sphere step over ranks needs the whole system's lists built in cell order");
+    images_ = view.template has<ImageCount<3>>();
+    rotating_ = view.template has<AngularVelocity>();
+    walls_ = whole_nl.walls;
+    const auto& mass = view.template read<Mass>().values;
+    const auto& radius = view.template read<Radius>().values;
+    const bool uniform_mass = !mass.empty() && std::all_of(mass.begin(), mass.end(), [&](double m) { return m == mass[0]; });
+    const bool same_radius =
+        !radius.empty() && std::all_of(radius.begin(), radius.end(), [&](double r) { return r == radius[0]; });
+    alike_ = {uniform_mass, same_radius};
+    if (balance_.every_steps > 0) {
+      std::vector<double> per_layer(layers);
+      for (std::size_t s = 0; s < layers; ++s) per_layer[s] = whole_nl.slabs[s + 1] - whole_nl.slabs[s];
+      move_bounds_if_uneven(per_layer);
+    }
+    local_.resource<Clock>() = view.template read<Clock>();
+    local_.emplace_resource<Box<3>>(view.template read<Box<3>>());
+    local_.emplace_resource<DemInteractions<3>>(view.template read<DemInteractions<3>>());
+    auto& nl = local_.emplace_resource<NeighbourList<3>>();
+    nl.skin = whole_nl.skin;
+    nl.reorder = true;
+    nl.keeps_history = whole_nl.keeps_history;
+    nl.walls = whole_nl.walls;
+    nl.builds = whole_nl.builds;
+    add_columns();
+
+    const auto [first, end] = held_layers();
+    const std::uint32_t base = whole_nl.slabs[first], count = whole_nl.slabs[end] - base;
+    below_ = whole_nl.slabs[slab_.low()] - base;
+    owned_ = whole_nl.slabs[slab_.high()] - whole_nl.slabs[slab_.low()];
+    local_.resize(count);
+    auto& x = local_.component<Position<3>>();
+    auto& v = local_.component<Velocity<3>>();
+    auto& f = local_.component<Force<3>>();
+    auto& id = local_.component<ParticleId>();
+    auto& index = local_.component<WholeIndex>();
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::uint32_t i = base + k;
+      x[k] = view.template read<Position<3>>()[i];
+      v[k] = view.template read<Velocity<3>>()[i];
+      f[k] = view.template read<Force<3>>()[i];
+      id[k] = view.template read<ParticleId>()[i];
+      index[k] = static_cast<double>(i);
+      local_.component<Mass>()[k] = mass[i];
+      local_.component<Radius>()[k] = radius[i];
+      if (images_) local_.component<ImageCount<3>>()[k] = view.template read<ImageCount<3>>()[i];
+      if (rotating_) {
+        local_.component<AngularVelocity>()[k] = view.template read<AngularVelocity>()[i];
+        local_.component<Torque>()[k] = view.template read<Torque>()[i];
+      }
+    }
+    // The lists of the layers below the top one held: the whole system's,
+    // whose partners all lie in the layers held; the top layer's own reach
+    // into the next, which this rank does not hold, and are left empty.
+    const std::uint32_t listed_end = whole_nl.slabs[std::min<std::size_t>(end, slab_.high())] - base;
+    nl.order.resize(count);
+    std::iota(nl.order.begin(), nl.order.end(), 0u);
+    nl.offsets.assign(count + 1, 0);
+    nl.list.clear();
+    nl.shear.clear();
+    for (std::uint32_t m = 0; m < count; ++m) {
+      if (m < listed_end) {
+        for (std::uint32_t p = whole_nl.offsets[base + m]; p < whole_nl.offsets[base + m + 1]; ++p) {
+          nl.list.push_back(whole_nl.list[p] - base);
+          if (nl.keeps_history) nl.shear.push_back(whole_nl.shear[p]);
+        }
+      }
+      nl.offsets[m + 1] = static_cast<std::uint32_t>(nl.list.size());
+    }
+    nl.slabs.clear();
+    for (std::size_t s = first; s <= end; ++s) nl.slabs.push_back(whole_nl.slabs[s] - base);
+    nl.periodic_slabs = false;
+    nl.reference.assign(whole_nl.reference.begin() + base, whole_nl.reference.begin() + base + count);
+    if (nl.keeps_history)
+      nl.wall_shear.assign(whole_nl.wall_shear.begin() + static_cast<std::ptrdiff_t>(base * walls_),
+                           whole_nl.wall_shear.begin() + static_cast<std::ptrdiff_t>((base + count) * walls_));
+    nl.derive();
+    first_layer_ = first;
+    forces_.as_part_of_whole(first_layer_, alike_[0], alike_[1]);
+    count_edges();
+    scattered_ = true;
+  }
+
+  void add_columns() {
+    local_.add_component<Position<3>>();
+    local_.add_component<Velocity<3>>();
+    local_.add_component<Force<3>>();
+    local_.add_component<Mass>();
+    local_.add_component<Radius>();
+    local_.add_component<ParticleId>();
+    local_.add_component<WholeIndex>();
+    if (images_) local_.add_component<ImageCount<3>>();
+    if (rotating_) {
+      local_.add_component<AngularVelocity>();
+      local_.add_component<Torque>();
+    }
+  }
+
+  // The layers this rank holds: its slab and the layer either side of it
+  // (z is closed: none below the first slab, none above the last).
+  std::pair<std::size_t, std::size_t> held_layers() const {
+    const auto low = static_cast<std::size_t>(slab_.low()), high = static_cast<std::size_t>(slab_.high());
+    return {low > 0 ? low - 1 : low, high < static_cast<std::size_t>(slab_.cells) ? high + 1 : high};
+  }
+  bool has_below() const { return slab_.rank > 0; }
+  bool has_above() const { return slab_.rank + 1 < slab_.ranks; }
+
+  std::size_t layer_of(const Vec<3>& x) const { return grid_.cell_of(x) / grid_.stride(2); }
+
+  // How many of its own spheres in its lowest and highest layer (the
+  // neighbours' copies) the rank sends each step.
+  void count_edges() {
+    const auto& nl = local_.resource<NeighbourList<3>>();
+    const std::size_t low = static_cast<std::size_t>(slab_.low()) - first_layer_;
+    const std::size_t high = static_cast<std::size_t>(slab_.high()) - 1 - first_layer_;
+    send_low_ = has_below() ? nl.slabs[low + 1] - nl.slabs[low] : 0;
+    send_high_ = has_above() ? nl.slabs[high + 1] - nl.slabs[high] : 0;
+  }
+
+  void move_bounds_if_uneven(const std::vector<double>& per_layer) {
+    const std::vector<double> loads = SlabDomain::loads(per_layer, slab_.bounds);
+    const double total = std::accumulate(loads.begin(), loads.end(), 0.0);
+    const double busiest = *std::max_element(loads.begin(), loads.end());
+    if (total > 0.0 && busiest > balance_.threshold * total / static_cast<double>(slab_.ranks))
+      slab_.bounds = SlabDomain::balanced(per_layer, slab_.ranks);
+  }
+
+  // ---- every step --------------------------------------------------------
+
+  double largest_owned_displacement() const {
+    const auto& x = local_.component<Position<3>>();
+    const auto& nl = local_.resource<NeighbourList<3>>();
+    const auto& box = local_.resource<Box<3>>();
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(below_, below_ + owned_, 4096), 0.0,
+        [&](const auto& r, double most) {
+          const double here = largest_displacement_squared(x.values.data(), nl, box, r.begin(), r.end());
+          return here <= most ? most : here;  // NaN wins
+        },
+        [](double a, double b) { return b <= a ? a : b; });
+  }
+
+  // The neighbours' copies of this rank's edge layers, moved on a step.
+  void refresh_copies() {
+    const std::size_t width = rotating_ ? 9 : 6;
+    const auto pack = [&](std::size_t from, std::size_t count) {
+      std::vector<double> out;
+      out.reserve(count * width);
+      const auto& x = local_.component<Position<3>>();
+      const auto& v = local_.component<Velocity<3>>();
+      for (std::size_t i = from; i < from + count; ++i) {
+        out.insert(out.end(), x[i].data(), x[i].data() + 3);
+        out.insert(out.end(), v[i].data(), v[i].data() + 3);
+        if (rotating_) {
+          const auto& w = local_.component<AngularVelocity>()[i];
+          out.insert(out.end(), w.data(), w.data() + 3);
+        }
+      }
+      return out;
+    };
+    const auto received = ranks_.exchange_with_neighbours(slab_.below(), pack(below_, send_low_), slab_.above(),
+                                                          pack(below_ + owned_ - send_high_, send_high_), 0);
+    const auto unpack = [&](const std::vector<double>& in, std::size_t from) {
+      auto& x = local_.component<Position<3>>();
+      auto& v = local_.component<Velocity<3>>();
+      for (std::size_t k = 0; k * width < in.size(); ++k) {
+        const double* p = in.data() + k * width;
+        x[from + k] = Vec<3>(p[0], p[1], p[2]);
+        v[from + k] = Vec<3>(p[3], p[4], p[5]);
+        if (rotating_) local_.component<AngularVelocity>()[from + k] = Vec<3>(p[6], p[7], p[8]);
+      }
+    };
+    if (received.from_below.size() != below_ * width || received.from_above.size() != (local_.size() - below_ - owned_) * width)
+      throw std::logic_error("the neighbours sent copies of another size than their layers at the last build");
+    unpack(received.from_below, 0);
+    unpack(received.from_above, below_ + owned_);
+  }
+
+  // The force pass's sums per layer, over the ranks in layer order, into
+  // the whole system's energy terms; the step's trapezoid into the ledger.
+  void add_energy_terms(View view) {
+    constexpr std::size_t P = DemContactForces<3>::pair_sums, W = DemContactForces<3>::wall_sums;
+    const std::size_t per_layer = P + W * walls_;
+    const auto& pairs = forces_.pair_slab_sums();
+    const auto& walls = forces_.wall_slab_sums();
+    std::vector<double> mine;
+    mine.reserve(static_cast<std::size_t>(slab_.high() - slab_.low()) * per_layer);
+    for (auto layer = static_cast<std::size_t>(slab_.low()); layer < static_cast<std::size_t>(slab_.high()); ++layer) {
+      const std::size_t s = layer - first_layer_;
+      mine.insert(mine.end(), pairs.begin() + static_cast<std::ptrdiff_t>(P * s),
+                  pairs.begin() + static_cast<std::ptrdiff_t>(P * (s + 1)));
+      for (std::size_t w = 0; w < walls_; ++w)
+        mine.insert(mine.end(), walls[w].begin() + static_cast<std::ptrdiff_t>(W * s),
+                    walls[w].begin() + static_cast<std::ptrdiff_t>(W * (s + 1)));
+    }
+    std::vector<double> all;
+    times_.timed(10, [&] { all = ranks_.gather_all(mine); });
+    const std::size_t layers = all.size() / per_layer;
+    std::vector<double> pair_partial(P * layers);
+    std::vector<std::vector<double>> wall_partial(walls_, std::vector<double>(W * layers));
+    for (std::size_t s = 0; s < layers; ++s) {
+      const double* at = all.data() + s * per_layer;
+      std::copy(at, at + P, pair_partial.begin() + static_cast<std::ptrdiff_t>(P * s));
+      for (std::size_t w = 0; w < walls_; ++w)
+        std::copy(at + P + W * w, at + P + W * (w + 1), wall_partial[w].begin() + static_cast<std::ptrdiff_t>(W * s));
+    }
+    auto& in = view.template write<DemInteractions<3>>();
+    DemContactForces<3>::add_slab_sums(pair_partial, wall_partial, layers, in);
+    view.template write<DemLedger>().book(dt_, in.wall_power, in.dissipation_power);
+  }
+
+  // ---- a list build ------------------------------------------------------
+
+  // Returns false where a sphere escaped (the run then stops, exit 3).
+  bool rebuild(View view) {
+    if (escaped(view)) return false;
+    auto& nl = local_.resource<NeighbourList<3>>();
+    const std::int64_t step = local_.resource<Clock>().step;
+    std::vector<Packed> mine;
+    times_.timed(2, [&] {
+      mine = pack_own();
+      if (balance_.every_steps > 0 && step - last_balance_ >= balance_.every_steps) {
+        last_balance_ = step;
+        std::vector<double> per_layer(static_cast<std::size_t>(slab_.cells), 0.0);
+        for (const Packed& p : mine) per_layer[p.layer] += 1.0;
+        per_layer = ranks_.add_across(per_layer);
+        move_bounds_if_uneven(per_layer);
+      }
+      migrate(mine);
+    });
+    std::sort(mine.begin(), mine.end(), [](const Packed& a, const Packed& b) {
+      return a.cell != b.cell ? a.cell < b.cell : a.index < b.index;
+    });
+    first_layer_ = held_layers().first;
+    std::vector<double> from_below, from_above;
+    times_.timed(3, [&] {
+      std::vector<double> down, up;
+      for (const Packed& p : mine) {
+        if (has_below() && p.layer == static_cast<std::size_t>(slab_.low())) down.insert(down.end(), p.data.begin(), p.data.end());
+        if (has_above() && p.layer + 1 == static_cast<std::size_t>(slab_.high())) up.insert(up.end(), p.data.begin(), p.data.end());
+      }
+      auto received = ranks_.exchange_with_neighbours(slab_.below(), down, slab_.above(), up, 1);
+      from_below = std::move(received.from_below);
+      from_above = std::move(received.from_above);
+    });
+    times_.timed(4, [&] {
+      std::vector<Packed> held = unpack_all(from_below);
+      below_ = held.size();
+      owned_ = mine.size();
+      for (Packed& p : mine) held.push_back(std::move(p));
+      for (Packed& p : unpack_all(from_above)) held.push_back(std::move(p));
+      std::int64_t before = 0;
+      const std::vector<double> counts = ranks_.gather_all({static_cast<double>(owned_)});
+      for (int r = 0; r < slab_.rank; ++r) before += static_cast<std::int64_t>(counts[static_cast<std::size_t>(r)]);
+      lay_out(held, static_cast<double>(before) - static_cast<double>(below_));
+      build_lists(held);
+      ++nl.builds;
+      forces_.as_part_of_whole(first_layer_, alike_[0], alike_[1]);
+      count_edges();
+    });
+    return true;
+  }
+
+  // The watchdog's check at a build: every rank learns the first escaped
+  // sphere in the whole system's order and stops with the same diagnosis.
+  bool escaped(View view) {
+    const auto& watch = view.template read<DemWatch<3>>();
+    const auto e = first_escaped<3>(local_.component<Position<3>>(), &local_.component<ParticleId>(), watch, below_,
+                                    below_ + owned_);
+    std::vector<double> mine;
+    if (e) mine = {static_cast<double>(e->sphere), static_cast<double>(e->axis), e->position};
+    const std::vector<double> all = ranks_.gather_all(mine);
+    if (all.empty()) return false;
+    fail_run<3>(view, escape_diagnosis<3>({static_cast<std::uint64_t>(all[0]), static_cast<int>(all[1]), all[2]}, watch));
+    return true;
+  }
+
+  // One sphere on its way: where it belongs and its packed columns.
+  struct Packed {
+    std::size_t cell = 0, layer = 0;
+    double index = 0.0;
+    std::vector<double> data;
+  };
+
+  // This rank's own spheres, each with the springs of the pairs it is the
+  // first of (its lists are whole: the rank owns it).
+  std::vector<Packed> pack_own() const {
+    const auto& nl = local_.resource<NeighbourList<3>>();
+    const auto& x = local_.component<Position<3>>();
+    const auto& v = local_.component<Velocity<3>>();
+    const auto& id = local_.component<ParticleId>();
+    std::vector<Packed> out(owned_);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, owned_, 1024), [&](const auto& r) {
+      for (std::size_t k = r.begin(); k != r.end(); ++k) {
+        const std::size_t i = below_ + k;
+        Packed& p = out[k];
+        p.cell = grid_.cell_of(x[i]);
+        p.layer = p.cell / grid_.stride(2);
+        p.index = local_.component<WholeIndex>()[i];
+        auto& d = p.data;
+        d.reserve(fixed_width() + 8);
+        d.push_back(p.index);
+        d.push_back(id[i]);
+        d.push_back(local_.component<Mass>()[i]);
+        d.push_back(local_.component<Radius>()[i]);
+        d.insert(d.end(), x[i].data(), x[i].data() + 3);
+        d.insert(d.end(), v[i].data(), v[i].data() + 3);
+        if (images_) {
+          const auto& image = local_.component<ImageCount<3>>()[i];
+          for (int a = 0; a < 3; ++a) d.push_back(image[a]);
+        }
+        if (rotating_) {
+          const auto& w = local_.component<AngularVelocity>()[i];
+          d.insert(d.end(), w.data(), w.data() + 3);
+          for (std::size_t wall = 0; wall < walls_; ++wall) {
+            const Shear& h = nl.wall_shear[i * walls_ + wall];
+            d.insert(d.end(), h.begin(), h.end());
+          }
+        }
+        d.push_back(0.0);  // the count of springs that follows
+        const std::size_t count_at = d.size() - 1;
+        if (nl.keeps_history) {
+          const auto [begin, end] = nl.pairs_of(i);
+          for (std::uint32_t q = begin; q < end; ++q) {
+            const Shear& h = nl.shear[q];
+            if (is_untouched(h)) continue;
+            d.push_back(id[nl.list[q]]);
+            d.insert(d.end(), h.begin(), h.end());
+            d[count_at] += 1.0;
+          }
+        }
+      }
+    });
+    return out;
+  }
+
+  // A spring that holds nothing: +0 in every component (a -0 one, from a
+  // pair whose spheres swapped order, must travel to stay bit for bit).
+  static bool is_untouched(const Shear& h) {
+    return std::all_of(h.begin(), h.end(), [](double c) { return std::bit_cast<std::uint64_t>(c) == 0; });
+  }
+
+  // Packed spheres from a message, in its order.
+  std::vector<Packed> unpack_all(const std::vector<double>& in) const {
+    std::vector<Packed> out;
+    const std::size_t fixed = fixed_width();
+    for (std::size_t at = 0; at < in.size();) {
+      const std::size_t springs = static_cast<std::size_t>(in[at + fixed]);
+      const std::size_t length = fixed + 1 + 4 * springs;
+      Packed p;
+      p.data.assign(in.begin() + static_cast<std::ptrdiff_t>(at), in.begin() + static_cast<std::ptrdiff_t>(at + length));
+      p.index = p.data[0];
+      p.cell = grid_.cell_of(Vec<3>(p.data[4], p.data[5], p.data[6]));
+      p.layer = p.cell / grid_.stride(2);
+      out.push_back(std::move(p));
+      at += length;
+    }
+    return out;
+  }
+
+  // Passes each sphere on towards the rank that owns its layer, a
+  // neighbour at a time, until every sphere is home (one round, but where
+  // the slabs moved).
+  void migrate(std::vector<Packed>& mine) {
+    for (;;) {
+      std::vector<double> down, up;
+      std::vector<Packed> staying;
+      for (Packed& p : mine) {
+        const int owner = slab_.owner(static_cast<double>(p.layer));
+        if (owner == slab_.rank) {
+          staying.push_back(std::move(p));
+          continue;
+        }
+        auto& towards = owner < slab_.rank ? down : up;
+        towards.insert(towards.end(), p.data.begin(), p.data.end());
+      }
+      const auto received = ranks_.exchange_with_neighbours(slab_.below(), has_below() ? down : std::vector<double>{},
+                                                            slab_.above(), has_above() ? up : std::vector<double>{}, 2);
+      std::int64_t travelling = 0;
+      for (const auto* in : {&received.from_below, &received.from_above})
+        for (Packed& p : unpack_all(*in)) {
+          travelling += slab_.owner(static_cast<double>(p.layer)) != slab_.rank;
+          staying.push_back(std::move(p));
+        }
+      mine = std::move(staying);
+      if (ranks_.sum(travelling) == 0) return;
+    }
+  }
+
+  // The held spheres into the local World in their order (the whole
+  // system's cell order), each given its index in the whole system from
+  // `first_index` on; their springs into a table by the pair's ids.
+  void lay_out(const std::vector<Packed>& held, double first_index) {
+    const std::size_t n = held.size();
+    local_.resize(n);
+    auto& nl = local_.resource<NeighbourList<3>>();
+    nl.wall_shear.assign(nl.keeps_history ? n * walls_ : 0, Shear{});
+    springs_.clear();
+    auto& x = local_.component<Position<3>>();
+    auto& v = local_.component<Velocity<3>>();
+    auto& id = local_.component<ParticleId>();
+    auto& index = local_.component<WholeIndex>();
+    auto& mass = local_.component<Mass>();
+    auto& radius = local_.component<Radius>();
+    for (std::size_t i = 0; i < n; ++i) {
+      const double* d = held[i].data.data();
+      index[i] = first_index + static_cast<double>(i);
+      id[i] = static_cast<std::uint32_t>(d[1]);
+      mass[i] = d[2];
+      radius[i] = d[3];
+      x[i] = Vec<3>(d[4], d[5], d[6]);
+      v[i] = Vec<3>(d[7], d[8], d[9]);
+      std::size_t k = 10;
+      if (images_) {
+        for (int a = 0; a < 3; ++a) local_.component<ImageCount<3>>()[i][a] = static_cast<std::int32_t>(d[k + static_cast<std::size_t>(a)]);
+        k += 3;
+      }
+      if (rotating_) {
+        local_.component<AngularVelocity>()[i] = Vec<3>(d[k], d[k + 1], d[k + 2]);
+        k += 3;
+        for (std::size_t wall = 0; wall < walls_; ++wall, k += 3)
+          nl.wall_shear[i * walls_ + wall] = {d[k], d[k + 1], d[k + 2]};
+      }
+      const auto springs = static_cast<std::size_t>(d[k++]);
+      for (std::size_t s = 0; s < springs; ++s, k += 4)
+        springs_[pair_key(id[i], static_cast<std::uint32_t>(d[k]))] = {d[k + 1], d[k + 2], d[k + 3]};
+    }
+  }
+
+  static std::uint64_t pair_key(std::uint32_t first, std::uint32_t second) {
+    return (static_cast<std::uint64_t>(first) << 32) | second;
+  }
+
+  // The lists over the held spheres, as neighbour_list.hpp builds them,
+  // on the cells of the layers held; the springs from the table, each pair
+  // taking that of its two spheres (negated where they swapped order).
+  void build_lists(const std::vector<Packed>& held) {
+    auto& nl = local_.resource<NeighbourList<3>>();
+    const auto& box = local_.resource<Box<3>>();
+    const std::size_t n = held.size();
+    const std::size_t stride = grid_.stride(2);
+    const std::size_t held_layers_count = held_layers().second - first_layer_;
+    const CellGrid<3> cells({}, box.length, {grid_.cells(0), grid_.cells(1), static_cast<int>(held_layers_count)},
+                            {box.periodic[0], box.periodic[1], false});
+    std::vector<std::uint32_t> sorted_cell(n), start(cells.cell_count() + 1, 0);
+    std::vector<std::array<double, 4>> sorted(n);
+    const auto& x = local_.component<Position<3>>();
+    const auto& radius = local_.component<Radius>();
+    for (std::size_t m = 0; m < n; ++m) {
+      sorted_cell[m] = static_cast<std::uint32_t>(held[m].cell - first_layer_ * stride);
+      for (int a = 0; a < 3; ++a) sorted[m][static_cast<std::size_t>(a)] = x[m][a];
+      sorted[m][3] = radius[m];
+      ++start[sorted_cell[m] + 1];
+    }
+    for (std::size_t c = 0; c < cells.cell_count(); ++c) start[c + 1] += start[c];
+    nl.order.resize(n);
+    std::iota(nl.order.begin(), nl.order.end(), 0u);
+    list_partners(cells, start, sorted_cell, sorted, box, nl);
+    nl.slabs.resize(held_layers_count + 1);
+    for (std::size_t s = 0; s <= held_layers_count; ++s) nl.slabs[s] = start[s * stride];
+    nl.periodic_slabs = false;
+    if (nl.keeps_history) {
+      const auto& id = local_.component<ParticleId>();
+      nl.shear.assign(nl.list.size(), Shear{});
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nl.list.size(), 4096), [&](const auto& r) {
+        for (std::size_t p = r.begin(); p != r.end(); ++p) {
+          const std::uint32_t a = id[nl.first[p]], b = id[nl.list[p]];
+          if (const auto found = springs_.find(pair_key(a, b)); found != springs_.end()) {
+            nl.shear[p] = found->second;
+          } else if (const auto swapped = springs_.find(pair_key(b, a)); swapped != springs_.end()) {
+            for (int k = 0; k < 3; ++k) nl.shear[p][static_cast<std::size_t>(k)] = -swapped->second[static_cast<std::size_t>(k)];
+          }
+        }
+      });
+    }
+    nl.derive();
+    nl.reference.assign(x.values.begin(), x.values.end());
+    nl.displacement_step = -1;
+  }
+
+  // ---- the whole World ---------------------------------------------------
+
+  void gather_into(World& whole) {
+    const auto& nl = local_.resource<NeighbourList<3>>();
+    const auto& x = local_.component<Position<3>>();
+    const auto& index = local_.component<WholeIndex>();
+    // Per sphere: position, velocity, force, reference, id, mass, radius,
+    // images, spin and torque, wall springs, its pair count.
+    const std::size_t width = 16 + (images_ ? 3 : 0) + (rotating_ ? 6 + 3 * walls_ : 0);
+    std::vector<double> spheres, pairs;
+    spheres.reserve(owned_ * width);
+    for (std::size_t i = below_; i < below_ + owned_; ++i) {
+      const auto add = [&](const auto& vec) { spheres.insert(spheres.end(), vec.data(), vec.data() + 3); };
+      add(x[i]);
+      add(local_.component<Velocity<3>>()[i]);
+      add(local_.component<Force<3>>()[i]);
+      add(nl.reference[i]);
+      spheres.push_back(local_.component<ParticleId>()[i]);
+      spheres.push_back(local_.component<Mass>()[i]);
+      spheres.push_back(local_.component<Radius>()[i]);
+      if (images_)
+        for (int a = 0; a < 3; ++a) spheres.push_back(local_.component<ImageCount<3>>()[i][a]);
+      if (rotating_) {
+        add(local_.component<AngularVelocity>()[i]);
+        add(local_.component<Torque>()[i]);
+        for (std::size_t w = 0; w < walls_; ++w) add(nl.wall_shear[i * walls_ + w]);
+      }
+      const auto [begin, end] = nl.pairs_of(i);
+      spheres.push_back(end - begin);
+      for (std::uint32_t p = begin; p < end; ++p) {
+        pairs.push_back(index[nl.list[p]]);
+        if (nl.keeps_history) pairs.insert(pairs.end(), nl.shear[p].begin(), nl.shear[p].end());
+      }
+    }
+    const std::vector<double> all = ranks_.gather_all(spheres);
+    const std::vector<double> all_pairs = ranks_.gather_all(pairs);
+    const std::size_t n = all.size() / width;
+    follow_order(whole, all, width, 12);
+    whole.resize(n);
+    auto& whole_nl = whole.resource<NeighbourList<3>>();
+    whole_nl.reference.resize(n);
+    whole_nl.order.resize(n);
+    std::iota(whole_nl.order.begin(), whole_nl.order.end(), 0u);
+    whole_nl.offsets.assign(n + 1, 0);
+    whole_nl.wall_shear.assign(whole_nl.keeps_history ? n * walls_ : 0, Shear{});
+    std::vector<std::uint32_t> per_layer(static_cast<std::size_t>(grid_.cells(2)) + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double* d = all.data() + i * width;
+      whole.component<Position<3>>()[i] = Vec<3>(d[0], d[1], d[2]);
+      whole.component<Velocity<3>>()[i] = Vec<3>(d[3], d[4], d[5]);
+      whole.component<Force<3>>()[i] = Vec<3>(d[6], d[7], d[8]);
+      whole_nl.reference[i] = Vec<3>(d[9], d[10], d[11]);
+      whole.component<ParticleId>()[i] = static_cast<std::uint32_t>(d[12]);
+      whole.component<Mass>()[i] = d[13];
+      whole.component<Radius>()[i] = d[14];
+      std::size_t k = 15;
+      if (images_) {
+        for (int a = 0; a < 3; ++a) whole.component<ImageCount<3>>()[i][a] = static_cast<std::int32_t>(d[k + static_cast<std::size_t>(a)]);
+        k += 3;
+      }
+      if (rotating_) {
+        whole.component<AngularVelocity>()[i] = Vec<3>(d[k], d[k + 1], d[k + 2]);
+        whole.component<Torque>()[i] = Vec<3>(d[k + 3], d[k + 4], d[k + 5]);
+        k += 6;
+        for (std::size_t w = 0; w < walls_; ++w, k += 3) whole_nl.wall_shear[i * walls_ + w] = {d[k], d[k + 1], d[k + 2]};
+      }
+      whole_nl.offsets[i + 1] = whole_nl.offsets[i] + static_cast<std::uint32_t>(d[k]);
+      ++per_layer[layer_of(whole_nl.reference[i]) + 1];
+    }
+    const std::size_t stride = whole_nl.keeps_history ? 4 : 1;
+    whole_nl.list.resize(all_pairs.size() / stride);
+    whole_nl.shear.assign(whole_nl.keeps_history ? whole_nl.list.size() : 0, Shear{});
+    for (std::size_t p = 0; p < whole_nl.list.size(); ++p) {
+      whole_nl.list[p] = static_cast<std::uint32_t>(all_pairs[p * stride]);
+      if (whole_nl.keeps_history)
+        whole_nl.shear[p] = {all_pairs[p * stride + 1], all_pairs[p * stride + 2], all_pairs[p * stride + 3]};
+    }
+    for (std::size_t s = 1; s < per_layer.size(); ++s) per_layer[s] += per_layer[s - 1];
+    whole_nl.slabs = per_layer;
+    whole_nl.periodic_slabs = false;
+    whole_nl.builds = nl.builds;
+    whole_nl.derive();
+  }
+
+  // The whole World takes the order of the gathered spheres as a
+  // permutation (World::permute), as the lists' builds reorder it on one
+  // rank, so that what follows each sphere by index (an observer's
+  // per-sphere state) follows it here too. `id_at`: the id's place in a
+  // gathered sphere's `width` values.
+  static void follow_order(World& whole, const std::vector<double>& all, std::size_t width, std::size_t id_at) {
+    const auto& ids = whole.component<ParticleId>().values;
+    const std::size_t n = all.size() / width;
+    if (ids.size() != n) return;
+    std::unordered_map<std::uint32_t, std::uint32_t> was;
+    was.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) was[ids[i]] = static_cast<std::uint32_t>(i);
+    std::vector<std::uint32_t> order(n);
+    bool moved = false;
+    for (std::size_t k = 0; k < n; ++k) {
+      const auto found = was.find(static_cast<std::uint32_t>(all[k * width + id_at]));
+      if (found == was.end()) return;
+      order[k] = found->second;
+      moved |= order[k] != k;
+    }
+    if (moved) whole.permute(order);
+  }
+
+  const Communicator& ranks_;
+  double dt_;
+  CellGrid<3> grid_;  // the whole system's list cells
+  SlabDomain slab_;   // in layers of grid_ along z
+  DemDomainBalance balance_;
+  std::int64_t last_balance_ = 0;
+  World local_;
+  DemKickDrift<3> kick_drift_;
+  DemContactForces<3> forces_;
+  DemKick<3> kick_;
+  bool scattered_ = false, host_current_ = true;
+  bool images_ = false, rotating_ = false;
+  std::array<bool, 2> alike_{};  // the whole system's: all masses equal, all radii equal
+  std::size_t walls_ = 0;
+  std::size_t first_layer_ = 0;  // of the whole system's, held as local layer 0
+  // The local World: the copies of the layer below [0, below_), the own
+  // spheres [below_, below_ + owned_), the copies of the layer above.
+  std::size_t below_ = 0, owned_ = 0;
+  std::size_t send_low_ = 0, send_high_ = 0;  // own spheres in the lowest and highest layer
+  std::unordered_map<std::uint64_t, Shear> springs_;  // of the last build, by the pair's ids
+  PhaseTimes<11> times_{{"drift", "agreement", "migration", "copies_at_build", "neighbour_list", "copies",
+                         "forces", "energy_terms", "kick", "gather", "communication"}};
+};
+
+}  // namespace granflow::dem
