@@ -38,6 +38,8 @@
 // checkpoint is that of one rank and resumes on any number of ranks.
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
@@ -176,12 +178,13 @@ class DemDomainStep : public DemDomainStepBase {
     const bool same_radius =
         !radius.empty() && std::all_of(radius.begin(), radius.end(), [&](double r) { return r == radius[0]; });
     alike_ = {uniform_mass, same_radius};
+    local_.resource<Clock>() = view.template read<Clock>();
+    last_balance_ = local_.resource<Clock>().step;
     if (balance_.every_steps > 0) {
       std::vector<double> per_layer(layers);
       for (std::size_t s = 0; s < layers; ++s) per_layer[s] = whole_nl.slabs[s + 1] - whole_nl.slabs[s];
       move_bounds_if_uneven(per_layer);
     }
-    local_.resource<Clock>() = view.template read<Clock>();
     local_.emplace_resource<Box<3>>(view.template read<Box<3>>());
     local_.emplace_resource<DemInteractions<3>>(view.template read<DemInteractions<3>>());
     auto& nl = local_.emplace_resource<NeighbourList<3>>();
@@ -289,8 +292,14 @@ class DemDomainStep : public DemDomainStepBase {
     const std::vector<double> loads = SlabDomain::loads(per_layer, slab_.bounds);
     const double total = std::accumulate(loads.begin(), loads.end(), 0.0);
     const double busiest = *std::max_element(loads.begin(), loads.end());
-    if (total > 0.0 && busiest > balance_.threshold * total / static_cast<double>(slab_.ranks))
-      slab_.bounds = SlabDomain::balanced(per_layer, slab_.ranks);
+    if (!(total > 0.0 && busiest > balance_.threshold * total / static_cast<double>(slab_.ranks))) return;
+    const auto bounds = SlabDomain::balanced(per_layer, slab_.ranks);
+    if (bounds == slab_.bounds) return;
+    slab_.bounds = bounds;
+    spdlog::info("step {}: the slabs now start at layers [{}] of {} (the busiest rank held {:.0f} spheres, the mean "
+                 "is {:.0f})",
+                 local_.resource<Clock>().step, fmt::join(bounds.begin(), bounds.end() - 1, ", "), slab_.cells, busiest,
+                 total / static_cast<double>(slab_.ranks));
   }
 
   // ---- every step --------------------------------------------------------

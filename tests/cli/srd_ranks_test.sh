@@ -35,36 +35,7 @@ mpiexec="$2"
 scenarios="$3"
 source "$(dirname "$0")/common.sh"
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-ranks() { local n="$1"; shift; "$mpiexec" -np "$n" --oversubscribe --bind-to none "$granflow" "$@"; }
-
-# agree A B TOLERANCE [SKIPPED...]: every dataset but provenance, timings and
-# those under SKIPPED, floats within TOLERANCE of the dataset's largest
-# magnitude (0: bit for bit), others equal.
-agree() {
-  /usr/bin/python3 - "$@" <<'PY' || failures=$((failures + 1))
-import sys, h5py, numpy as np
-a, b = (h5py.File(p, "r") for p in sys.argv[1:3])
-tolerance = float(sys.argv[3])
-skipped = tuple(sys.argv[4:])  # path prefixes left out
-paths, worst = [], 0.0
-a.visititems(lambda n, o: paths.append(n) if isinstance(o, h5py.Dataset) and not n.startswith(("provenance", "profile") + skipped) else None)
-for path in paths:
-    if path not in b: sys.exit(f"FAIL: {sys.argv[2]} lacks {path}")
-    x, y = np.asarray(a[path][()]), np.asarray(b[path][()])
-    if x.shape != y.shape: sys.exit(f"FAIL: {path}: shapes {x.shape} and {y.shape}")
-    if tolerance > 0 and np.issubdtype(x.dtype, np.floating):
-        scale = np.nanmax(np.abs(x)) if x.size and not np.all(np.isnan(x)) else 0.0
-        gap = np.nanmax(np.abs(x - y)) if x.size and not np.all(np.isnan(x)) else 0.0
-        if not np.array_equal(np.isnan(x), np.isnan(y)) or gap > tolerance * max(scale, 1e-300):
-            sys.exit(f"FAIL: {path} differs by {gap:.3g} (largest value {scale:.3g}) between {sys.argv[1]} and {sys.argv[2]}")
-        if scale > 0: worst = max(worst, gap / scale)
-    elif not np.array_equal(x, y, equal_nan=np.issubdtype(x.dtype, np.floating)):
-        sys.exit(f"FAIL: {path} differs between {sys.argv[1]} and {sys.argv[2]}")
-print(f"ok: {sys.argv[2]} agrees with {sys.argv[1]} in {len(paths)} datasets "
-      + (f"(largest relative difference {worst:.2g})" if tolerance > 0 else "(bit for bit)"))
-PY
-}
+source "$(dirname "$0")/ranks_common.sh"
 
 cooling="$scenarios/gsrd_cooling.toml"
 common=(--set srd.restitution=0.98 --set srd.rotation_angle=10 --set output.positions=all
@@ -243,14 +214,6 @@ else
 fi
 
 # Refused, once, with the reason.
-refused() {  # refused PATTERN RANKS ARGS...
-  local pattern="$1"; shift
-  local output status
-  output=$(ranks "$@" -q -o "$work/refused.h5" 2>&1); status=$?
-  local said; said=$(grep -c "$pattern" <<< "$output")
-  if [[ $status -ne 0 && $said -eq 1 && ! -e "$work/refused.h5" ]]; then echo "ok: refused once: $pattern"
-  else fail "expected one refusal '$pattern' (exit $status, said $said times): $output"; fi
-}
 refused 'srd.device = "thrust_host"' 2 run "$cooling" --set srd.device=thrust_host
 refused "has no distributed step" 2 run "$scenarios/haff_cooling.toml"
 refused "cannot split 2 cells along z" 3 run "$cooling" --set 'system.cells=[2,2,2]'

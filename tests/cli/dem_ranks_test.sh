@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# One soft-sphere system over MPI ranks (`mpirun -np K granflow run`, a
+# -DGRANFLOW_MPI=ON build; systems/dem/dem_domain_step.hpp): every sphere's
+# force is summed as on one rank, so every result is one rank's bit for bit:
+#  - the shaken bed (walls on every side, a divider, the compartment flux
+#    counted every step) on 2 and 3 ranks, frictionless and with friction,
+#    with the slabs balanced by sphere count (the default) and left equal
+#    (the upper ranks then hold no sphere at all);
+#  - the deep vibrated bed, periodic sideways, with friction (the springs'
+#    history crosses the slab boundaries) and particle frames;
+#  - a run stopped on 2 ranks and extended on 3, and one stopped on one
+#    process and extended on 2, equal the uninterrupted one-rank run;
+#  - what the step does not offer, and more ranks than layers, are refused
+#    once, on rank 0, with exit status 2.
+set -u
+granflow="$1"
+mpiexec="$2"
+scenarios="$3"
+source "$(dirname "$0")/common.sh"
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+source "$(dirname "$0")/ranks_common.sh"
+
+bed="$scenarios/shaken_bed.toml"
+deep="$scenarios/vibrated_bed.toml"
+alike() {  # alike NAME SCENARIO ARGS...: one process, then 2 and 3 ranks
+  local name="$1" scenario="$2"; shift 2
+  "$granflow" run "$scenario" "$@" -q -o "$work/${name}_1.h5" || fail "one rank ($name) exited with $?"
+  for k in 2 3; do
+    ranks "$k" run "$scenario" "$@" -q -o "$work/${name}_$k.h5" > "$work/${name}_$k.log" 2>&1 \
+      || fail "$k ranks ($name) exited with $?: $(cat "$work/${name}_$k.log")"
+    agree "$work/${name}_1.h5" "$work/${name}_$k.h5" 0
+  done
+}
+shaken=(--set run.t_stop=6 --set output.average_after=3 --set output.positions=all)
+alike shaken "$bed" "${shaken[@]}"
+alike shaken_friction "$bed" "${shaken[@]}" --set contact.friction=0.5
+alike shaken_equal_slabs "$bed" "${shaken[@]}" --set balance.every_steps=0
+deep_args=(--set run.t_stop=0.6 --set output.interval=0.2 --set contact.friction=0.3 --set output.positions=all)
+alike deep_friction "$deep" "${deep_args[@]}"
+
+# The bed lies in the lowest layers: the slabs move to it at the start.
+ranks 3 run "$bed" "${shaken[@]}" -o "$work/balanced.h5" > "$work/balanced.log" 2>&1 || fail "balanced run exited with $?"
+if [[ $(grep -c "the slabs now start at layers" "$work/balanced.log") -ge 1 ]]; then
+  echo "ok: the slabs moved to the bed: $(grep -m1 -o 'the slabs now start at layers.*' "$work/balanced.log")"
+else
+  fail "the slabs did not move to the bed: $(cat "$work/balanced.log")"
+fi
+/usr/bin/python3 - "$work/balanced.h5" <<'PY' || failures=$((failures + 1))
+import sys, h5py
+d = h5py.File(sys.argv[1], "r")["parameters/derived"].attrs
+if d["ranks"] != 3 or d["slab_layers"] < 3:
+    sys.exit(f"FAIL: derived ranks {d['ranks']}, slab_layers {d['slab_layers']}")
+print(f"ok: {d['ranks']:.0f} ranks over {d['slab_layers']:.0f} layers recorded")
+PY
+
+# Stopped and extended on another number of ranks (the first part ends on
+# an output: a finished run's last output stays in the file it extends).
+whole=("${deep_args[@]}" --set output.final_checkpoint=true)
+"$granflow" run "$deep" "${whole[@]}" -q -o "$work/deep_whole.h5" || fail "one-rank reference exited with $?"
+ranks 2 run "$deep" "${whole[@]}" --set run.t_stop=0.4 -q -o "$work/deep_2to3.h5" || fail "2-rank first part exited with $?"
+ranks 3 run "$deep" "${whole[@]}" -q -o "$work/deep_2to3.h5" --resume || fail "3-rank extension exited with $?"
+agree "$work/deep_whole.h5" "$work/deep_2to3.h5" 0
+"$granflow" run "$deep" "${whole[@]}" --set run.t_stop=0.4 -q -o "$work/deep_1to2.h5" || fail "one-rank first part exited with $?"
+ranks 2 run "$deep" "${whole[@]}" -q -o "$work/deep_1to2.h5" --resume || fail "2-rank extension exited with $?"
+agree "$work/deep_whole.h5" "$work/deep_1to2.h5" 0
+
+# Refused, once.
+refused 'run.integrator = "position_verlet" (velocity_verlet is) is not offered' 2 run "$bed" "${shaken[@]}" \
+  --set run.integrator=position_verlet
+refused "neighbour.reorder = false" 2 run "$bed" "${shaken[@]}" --set neighbour.reorder=false
+refused "3 ranks cannot split 2 cells along z" 3 run "$bed" "${shaken[@]}" --set 'system.box=[20,4,3]' \
+  --set system.count=40 --set divider.height=1 --set shaking.amplitude=0.2
+
+exit $((failures > 0))

@@ -1,0 +1,44 @@
+# What the tests of one system over MPI ranks share (sourced after
+# common.sh, with $granflow and $mpiexec set).
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+# ranks K ARGS...: granflow on K ranks, oversubscribed on a small machine.
+ranks() { local n="$1"; shift; "$mpiexec" -np "$n" --oversubscribe --bind-to none "$granflow" "$@"; }
+
+# refused PATTERN K ARGS...: the run on K ranks is refused, said once (rank
+# 0), and leaves no result file.
+refused() {  # refused PATTERN RANKS ARGS...
+  local pattern="$1"; shift
+  local output status
+  output=$(ranks "$@" -q -o "$work/refused.h5" 2>&1); status=$?
+  local said; said=$(grep -c "$pattern" <<< "$output")
+  if [[ $status -ne 0 && $said -eq 1 && ! -e "$work/refused.h5" ]]; then echo "ok: refused once: $pattern"
+  else fail "expected one refusal '$pattern' (exit $status, said $said times): $output"; fi
+}
+
+# agree A B TOLERANCE [SKIPPED...]: every dataset but provenance, timings and
+# those under SKIPPED, floats within TOLERANCE of the dataset's largest
+# magnitude (0: bit for bit), others equal.
+agree() {
+  /usr/bin/python3 - "$@" <<'PY' || failures=$((failures + 1))
+import sys, h5py, numpy as np
+a, b = (h5py.File(p, "r") for p in sys.argv[1:3])
+tolerance = float(sys.argv[3])
+skipped = tuple(sys.argv[4:])  # path prefixes left out
+paths, worst = [], 0.0
+a.visititems(lambda n, o: paths.append(n) if isinstance(o, h5py.Dataset) and not n.startswith(("provenance", "profile") + skipped) else None)
+for path in paths:
+    if path not in b: sys.exit(f"FAIL: {sys.argv[2]} lacks {path}")
+    x, y = np.asarray(a[path][()]), np.asarray(b[path][()])
+    if x.shape != y.shape: sys.exit(f"FAIL: {path}: shapes {x.shape} and {y.shape}")
+    if tolerance > 0 and np.issubdtype(x.dtype, np.floating):
+        scale = np.nanmax(np.abs(x)) if x.size and not np.all(np.isnan(x)) else 0.0
+        gap = np.nanmax(np.abs(x - y)) if x.size and not np.all(np.isnan(x)) else 0.0
+        if not np.array_equal(np.isnan(x), np.isnan(y)) or gap > tolerance * max(scale, 1e-300):
+            sys.exit(f"FAIL: {path} differs by {gap:.3g} (largest value {scale:.3g}) between {sys.argv[1]} and {sys.argv[2]}")
+        if scale > 0: worst = max(worst, gap / scale)
+    elif not np.array_equal(x, y, equal_nan=np.issubdtype(x.dtype, np.floating)):
+        sys.exit(f"FAIL: {path} differs between {sys.argv[1]} and {sys.argv[2]}")
+print(f"ok: {sys.argv[2]} agrees with {sys.argv[1]} in {len(paths)} datasets "
+      + (f"(largest relative difference {worst:.2g})" if tolerance > 0 else "(bit for bit)"))
+PY
+}
