@@ -80,6 +80,7 @@
 #include "systems/dem/neighbour_list.hpp"
 #include "systems/dem/velocity_verlet.hpp"
 #include "systems/geometry/cell_grid.hpp"
+#include "systems/geometry/counting_sort.hpp"
 #include "systems/geometry/slab_domain.hpp"
 
 namespace granflow::dem {
@@ -129,8 +130,11 @@ class DemDomainStep : public DemDomainStepBase {
     if (!scattered_) scatter(view);
     times_.timed(0, [&] { kick_drift_.run(local_); });
     view.template write<Clock>() = local_.resource<Clock>();
-    const double moved = largest_owned_displacement();
+    // The drift moved the rank's own spheres only (move_own_only) and
+    // measured how far they went since the build.
     const auto& nl = local_.resource<NeighbourList<3>>();
+    const double moved = nl.displacement_step == local_.resource<Clock>().step ? nl.displacement_squared
+                                                                                : largest_owned_displacement();
     std::int64_t builders = 0;
     times_.timed(1, [&] { builders = ranks_.sum_agreeing_on_interrupt(!(moved <= 0.25 * nl.skin * nl.skin) ? 1 : 0); });
     if (builders > 0) {
@@ -160,6 +164,37 @@ class DemDomainStep : public DemDomainStepBase {
   // them, then its pairs' springs (partner id and shear each).
   std::size_t fixed_width() const {
     return 10 + (images_ ? 3 : 0) + (rotating_ ? 3 + 3 * walls_ : 0);
+  }
+
+  // A World's columns, looked up once per pass rather than per sphere; the
+  // optional ones null where the run has none.
+  struct Columns {
+    Vec<3>* x = nullptr;
+    Vec<3>* v = nullptr;
+    Vec<3>* f = nullptr;
+    std::uint32_t* id = nullptr;
+    double* mass = nullptr;
+    double* radius = nullptr;
+    double* index = nullptr;  // the local World's alone
+    typename ImageCount<3>::value_type* image = nullptr;
+    Vec<3>* omega = nullptr;
+    Vec<3>* torque = nullptr;
+  };
+  Columns columns_of(World& world) const {
+    Columns c;
+    c.x = world.component<Position<3>>().data();
+    c.v = world.component<Velocity<3>>().data();
+    c.f = world.component<Force<3>>().data();
+    c.id = world.component<ParticleId>().data();
+    c.mass = world.component<Mass>().data();
+    c.radius = world.component<Radius>().data();
+    if (&world == &local_) c.index = world.component<WholeIndex>().data();
+    if (images_) c.image = world.component<ImageCount<3>>().data();
+    if (rotating_) {
+      c.omega = world.component<AngularVelocity>().data();
+      c.torque = world.component<Torque>().data();
+    }
+    return c;
   }
 
   // ---- the start: this rank's part of the whole World -------------------
@@ -247,6 +282,7 @@ class DemDomainStep : public DemDomainStepBase {
                            whole_nl.wall_shear.begin() + static_cast<std::ptrdiff_t>((base + count) * walls_));
     nl.derive();
     first_layer_ = first;
+    move_own_only(nl);
     forces_.as_part_of_whole(first_layer_, alike_[0], alike_[1]);
     count_edges();
     scattered_ = true;
@@ -272,6 +308,14 @@ class DemDomainStep : public DemDomainStepBase {
   std::pair<std::size_t, std::size_t> held_layers() const {
     const auto low = static_cast<std::size_t>(slab_.low()), high = static_cast<std::size_t>(slab_.high());
     return {low > 0 ? low - 1 : low, high < static_cast<std::size_t>(slab_.cells) ? high + 1 : high};
+  }
+  // The kicks and the drift go through the spheres of the lists' thread
+  // domains: those are cut to the rank's own, so that the copies (which
+  // the neighbours' next message sets) cost nothing and the drift measures
+  // the own spheres' displacement alone, as the build test needs.
+  void move_own_only(NeighbourList<3>& nl) const {
+    for (auto& s : nl.domains.sphere)
+      s = std::clamp(s, static_cast<std::uint32_t>(below_), static_cast<std::uint32_t>(below_ + owned_));
   }
   bool has_below() const { return slab_.rank > 0; }
   bool has_above() const { return slab_.rank + 1 < slab_.ranks; }
@@ -320,37 +364,32 @@ class DemDomainStep : public DemDomainStepBase {
   // The neighbours' copies of this rank's edge layers, moved on a step.
   void refresh_copies() {
     const std::size_t width = rotating_ ? 9 : 6;
-    const auto pack = [&](std::size_t from, std::size_t count) {
+    const Columns c = columns_of(local_);
+    const auto pack_moved = [&](std::size_t from, std::size_t count) {
       std::vector<double> out;
       out.reserve(count * width);
-      const auto& x = local_.component<Position<3>>();
-      const auto& v = local_.component<Velocity<3>>();
       for (std::size_t i = from; i < from + count; ++i) {
-        out.insert(out.end(), x[i].data(), x[i].data() + 3);
-        out.insert(out.end(), v[i].data(), v[i].data() + 3);
-        if (rotating_) {
-          const auto& w = local_.component<AngularVelocity>()[i];
-          out.insert(out.end(), w.data(), w.data() + 3);
-        }
+        out.insert(out.end(), c.x[i].data(), c.x[i].data() + 3);
+        out.insert(out.end(), c.v[i].data(), c.v[i].data() + 3);
+        if (c.omega) out.insert(out.end(), c.omega[i].data(), c.omega[i].data() + 3);
       }
       return out;
     };
-    const auto received = ranks_.exchange_with_neighbours(slab_.below(), pack(below_, send_low_), slab_.above(),
-                                                          pack(below_ + owned_ - send_high_, send_high_), 0);
-    const auto unpack = [&](const std::vector<double>& in, std::size_t from) {
-      auto& x = local_.component<Position<3>>();
-      auto& v = local_.component<Velocity<3>>();
+    const auto received = ranks_.exchange_with_neighbours(slab_.below(), pack_moved(below_, send_low_), slab_.above(),
+                                                          pack_moved(below_ + owned_ - send_high_, send_high_), 0);
+    if (received.from_below.size() != below_ * width ||
+        received.from_above.size() != (local_.size() - below_ - owned_) * width)
+      throw std::logic_error("the neighbours sent copies of another size than their layers at the last build");
+    const auto unpack_moved = [&](const std::vector<double>& in, std::size_t from) {
       for (std::size_t k = 0; k * width < in.size(); ++k) {
         const double* p = in.data() + k * width;
-        x[from + k] = Vec<3>(p[0], p[1], p[2]);
-        v[from + k] = Vec<3>(p[3], p[4], p[5]);
-        if (rotating_) local_.component<AngularVelocity>()[from + k] = Vec<3>(p[6], p[7], p[8]);
+        c.x[from + k] = Vec<3>(p[0], p[1], p[2]);
+        c.v[from + k] = Vec<3>(p[3], p[4], p[5]);
+        if (c.omega) c.omega[from + k] = Vec<3>(p[6], p[7], p[8]);
       }
     };
-    if (received.from_below.size() != below_ * width || received.from_above.size() != (local_.size() - below_ - owned_) * width)
-      throw std::logic_error("the neighbours sent copies of another size than their layers at the last build");
-    unpack(received.from_below, 0);
-    unpack(received.from_above, below_ + owned_);
+    unpack_moved(received.from_below, 0);
+    unpack_moved(received.from_above, below_ + owned_);
   }
 
   // The force pass's sums per layer, over the ranks in layer order, into
@@ -387,50 +426,36 @@ class DemDomainStep : public DemDomainStepBase {
   }
 
   // ---- a list build ------------------------------------------------------
+  //
+  // The spheres stay in the local World: those that leave are packed for
+  // their new owner, those that arrive are appended, and two permutations
+  // (World::permute) put the rank's own in the whole system's cell order
+  // and the copies of the neighbours' edge layers either side of them.
 
   // Returns false where a sphere escaped (the run then stops, exit 3).
   bool rebuild(View view) {
     if (escaped(view)) return false;
     auto& nl = local_.resource<NeighbourList<3>>();
-    const std::int64_t step = local_.resource<Clock>().step;
-    std::vector<Packed> mine;
-    times_.timed(2, [&] {
-      mine = pack_own();
-      if (balance_.every_steps > 0 && step - last_balance_ >= balance_.every_steps) {
-        last_balance_ = step;
-        std::vector<double> per_layer(static_cast<std::size_t>(slab_.cells), 0.0);
-        for (const Packed& p : mine) per_layer[p.layer] += 1.0;
-        per_layer = ranks_.add_across(per_layer);
-        move_bounds_if_uneven(per_layer);
-      }
-      migrate(mine);
-    });
-    std::sort(mine.begin(), mine.end(), [](const Packed& a, const Packed& b) {
-      return a.cell != b.cell ? a.cell < b.cell : a.index < b.index;
-    });
+    // The lists of the last build, whose own spheres' springs carry over.
+    previous_.offsets.swap(nl.offsets);
+    previous_.list.swap(nl.list);
+    previous_.shear.swap(nl.shear);
+    previous_ids_ = local_.component<ParticleId>().values;
+    was_.assign(local_.size(), none);
+    for (std::size_t i = below_; i < below_ + owned_; ++i) was_[i] = static_cast<std::uint32_t>(i);
+    arrived_.clear();
+    std::vector<std::uint32_t> own;
+    times_.timed(2, [&] { own = migrate(); });
     first_layer_ = held_layers().first;
-    std::vector<double> from_below, from_above;
-    times_.timed(3, [&] {
-      std::vector<double> down, up;
-      for (const Packed& p : mine) {
-        if (has_below() && p.layer == static_cast<std::size_t>(slab_.low())) down.insert(down.end(), p.data.begin(), p.data.end());
-        if (has_above() && p.layer + 1 == static_cast<std::size_t>(slab_.high())) up.insert(up.end(), p.data.begin(), p.data.end());
-      }
-      auto received = ranks_.exchange_with_neighbours(slab_.below(), down, slab_.above(), up, 1);
-      from_below = std::move(received.from_below);
-      from_above = std::move(received.from_above);
-    });
+    times_.timed(3, [&] { add_copies(own); });
     times_.timed(4, [&] {
-      std::vector<Packed> held = unpack_all(from_below);
-      below_ = held.size();
-      owned_ = mine.size();
-      for (Packed& p : mine) held.push_back(std::move(p));
-      for (Packed& p : unpack_all(from_above)) held.push_back(std::move(p));
       std::int64_t before = 0;
       const std::vector<double> counts = ranks_.gather_all({static_cast<double>(owned_)});
       for (int r = 0; r < slab_.rank; ++r) before += static_cast<std::int64_t>(counts[static_cast<std::size_t>(r)]);
-      lay_out(held, static_cast<double>(before) - static_cast<double>(below_));
-      build_lists(held);
+      auto& index = local_.component<WholeIndex>();
+      for (std::size_t i = 0; i < local_.size(); ++i)
+        index[i] = static_cast<double>(before) - static_cast<double>(below_) + static_cast<double>(i);
+      build_lists();
       ++nl.builds;
       forces_.as_part_of_whole(first_layer_, alike_[0], alike_[1]);
       count_edges();
@@ -452,63 +477,43 @@ class DemDomainStep : public DemDomainStepBase {
     return true;
   }
 
-  // One sphere on its way: where it belongs and its packed columns.
-  struct Packed {
-    std::size_t cell = 0, layer = 0;
-    double index = 0.0;
-    std::vector<double> data;
-  };
+  static constexpr std::uint32_t none = ~std::uint32_t{0};
 
-  // This rank's own spheres, each with the springs of the pairs it is the
-  // first of (its lists are whole: the rank owns it).
-  std::vector<Packed> pack_own() const {
-    const auto& nl = local_.resource<NeighbourList<3>>();
-    const auto& x = local_.component<Position<3>>();
-    const auto& v = local_.component<Velocity<3>>();
-    const auto& id = local_.component<ParticleId>();
-    std::vector<Packed> out(owned_);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, owned_, 1024), [&](const auto& r) {
-      for (std::size_t k = r.begin(); k != r.end(); ++k) {
-        const std::size_t i = below_ + k;
-        Packed& p = out[k];
-        p.cell = grid_.cell_of(x[i]);
-        p.layer = p.cell / grid_.stride(2);
-        p.index = local_.component<WholeIndex>()[i];
-        auto& d = p.data;
-        d.reserve(fixed_width() + 8);
-        d.push_back(p.index);
-        d.push_back(id[i]);
-        d.push_back(local_.component<Mass>()[i]);
-        d.push_back(local_.component<Radius>()[i]);
-        d.insert(d.end(), x[i].data(), x[i].data() + 3);
-        d.insert(d.end(), v[i].data(), v[i].data() + 3);
-        if (images_) {
-          const auto& image = local_.component<ImageCount<3>>()[i];
-          for (int a = 0; a < 3; ++a) d.push_back(image[a]);
-        }
-        if (rotating_) {
-          const auto& w = local_.component<AngularVelocity>()[i];
-          d.insert(d.end(), w.data(), w.data() + 3);
-          for (std::size_t wall = 0; wall < walls_; ++wall) {
-            const Shear& h = nl.wall_shear[i * walls_ + wall];
-            d.insert(d.end(), h.begin(), h.end());
-          }
-        }
-        d.push_back(0.0);  // the count of springs that follows
-        const std::size_t count_at = d.size() - 1;
-        if (nl.keeps_history) {
-          const auto [begin, end] = nl.pairs_of(i);
-          for (std::uint32_t q = begin; q < end; ++q) {
-            const Shear& h = nl.shear[q];
-            if (is_untouched(h)) continue;
-            d.push_back(id[nl.list[q]]);
-            d.insert(d.end(), h.begin(), h.end());
-            d[count_at] += 1.0;
-          }
-        }
+  // Sphere i (of the local World's columns c) onto `out`: its whole index, id, mass, radius, position and
+  // velocity, images, spin and wall springs where the run has them, then
+  // the springs of the pairs it is the first of (partner id and shear each),
+  // from the last build's lists where the rank owned it, else as they came
+  // with it.
+  void pack(const Columns& c, std::size_t i, std::vector<double>& out) const {
+    out.push_back(c.index[i]);
+    out.push_back(c.id[i]);
+    out.push_back(c.mass[i]);
+    out.push_back(c.radius[i]);
+    out.insert(out.end(), c.x[i].data(), c.x[i].data() + 3);
+    out.insert(out.end(), c.v[i].data(), c.v[i].data() + 3);
+    if (c.image)
+      for (int a = 0; a < 3; ++a) out.push_back(c.image[i][a]);
+    if (c.omega) {
+      out.insert(out.end(), c.omega[i].data(), c.omega[i].data() + 3);
+      const auto& nl = local_.resource<NeighbourList<3>>();
+      for (std::size_t wall = 0; wall < walls_; ++wall) {
+        const Shear& h = nl.wall_shear[i * walls_ + wall];
+        out.insert(out.end(), h.begin(), h.end());
       }
-    });
-    return out;
+    }
+    const std::size_t count_at = out.size();
+    out.push_back(0.0);
+    const auto add = [&](std::uint32_t partner, const Shear& h) {
+      out.push_back(partner);
+      out.insert(out.end(), h.begin(), h.end());
+      out[count_at] += 1.0;
+    };
+    if (was_[i] != none) {
+      for (std::uint32_t q = previous_.offsets[was_[i]]; q < previous_.offsets[was_[i] + 1]; ++q)
+        if (!previous_.shear.empty() && !is_untouched(previous_.shear[q])) add(previous_ids_[previous_.list[q]], previous_.shear[q]);
+    } else if (const auto found = arrived_.find(c.id[i]); found != arrived_.end()) {
+      for (const auto& [partner, h] : found->second) add(partner, h);
+    }
   }
 
   // A spring that holds nothing: +0 in every component (a -0 one, from a
@@ -517,150 +522,260 @@ class DemDomainStep : public DemDomainStepBase {
     return std::all_of(h.begin(), h.end(), [](double c) { return std::bit_cast<std::uint64_t>(c) == 0; });
   }
 
-  // Packed spheres from a message, in its order.
-  std::vector<Packed> unpack_all(const std::vector<double>& in) const {
-    std::vector<Packed> out;
+  // Where each packed sphere of a message starts.
+  std::vector<std::size_t> starts_of(const std::vector<double>& in) const {
+    std::vector<std::size_t> out;
     const std::size_t fixed = fixed_width();
-    for (std::size_t at = 0; at < in.size();) {
-      const std::size_t springs = static_cast<std::size_t>(in[at + fixed]);
-      const std::size_t length = fixed + 1 + 4 * springs;
-      Packed p;
-      p.data.assign(in.begin() + static_cast<std::ptrdiff_t>(at), in.begin() + static_cast<std::ptrdiff_t>(at + length));
-      p.index = p.data[0];
-      p.cell = grid_.cell_of(Vec<3>(p.data[4], p.data[5], p.data[6]));
-      p.layer = p.cell / grid_.stride(2);
-      out.push_back(std::move(p));
-      at += length;
-    }
+    for (std::size_t at = 0; at < in.size(); at += fixed + 1 + 4 * static_cast<std::size_t>(in[at + fixed]))
+      out.push_back(at);
     return out;
   }
+  std::size_t layer_of_packed(const double* p) const { return layer_of(Vec<3>(p[4], p[5], p[6])); }
 
-  // Passes each sphere on towards the rank that owns its layer, a
-  // neighbour at a time, until every sphere is home (one round, but where
-  // the slabs moved).
-  void migrate(std::vector<Packed>& mine) {
-    for (;;) {
-      std::vector<double> down, up;
-      std::vector<Packed> staying;
-      for (Packed& p : mine) {
-        const int owner = slab_.owner(static_cast<double>(p.layer));
-        if (owner == slab_.rank) {
-          staying.push_back(std::move(p));
-          continue;
-        }
-        auto& towards = owner < slab_.rank ? down : up;
-        towards.insert(towards.end(), p.data.begin(), p.data.end());
-      }
-      const auto received = ranks_.exchange_with_neighbours(slab_.below(), has_below() ? down : std::vector<double>{},
-                                                            slab_.above(), has_above() ? up : std::vector<double>{}, 2);
-      std::int64_t travelling = 0;
-      for (const auto* in : {&received.from_below, &received.from_above})
-        for (Packed& p : unpack_all(*in)) {
-          travelling += slab_.owner(static_cast<double>(p.layer)) != slab_.rank;
-          staying.push_back(std::move(p));
-        }
-      mine = std::move(staying);
-      if (ranks_.sum(travelling) == 0) return;
-    }
-  }
-
-  // The held spheres into the local World in their order (the whole
-  // system's cell order), each given its index in the whole system from
-  // `first_index` on; their springs into a table by the pair's ids.
-  void lay_out(const std::vector<Packed>& held, double first_index) {
-    const std::size_t n = held.size();
-    local_.resize(n);
+  // Packed spheres (each at in[at] for `at` in `starts`) appended to the
+  // local World, their springs kept by id for the lists and for passing on.
+  void append(const std::vector<double>& in, const std::vector<std::size_t>& starts) {
+    const std::size_t first = local_.size();
+    local_.resize(first + starts.size());
     auto& nl = local_.resource<NeighbourList<3>>();
-    nl.wall_shear.assign(nl.keeps_history ? n * walls_ : 0, Shear{});
-    springs_.clear();
-    auto& x = local_.component<Position<3>>();
-    auto& v = local_.component<Velocity<3>>();
-    auto& id = local_.component<ParticleId>();
-    auto& index = local_.component<WholeIndex>();
-    auto& mass = local_.component<Mass>();
-    auto& radius = local_.component<Radius>();
-    for (std::size_t i = 0; i < n; ++i) {
-      const double* d = held[i].data.data();
-      index[i] = first_index + static_cast<double>(i);
-      id[i] = static_cast<std::uint32_t>(d[1]);
-      mass[i] = d[2];
-      radius[i] = d[3];
-      x[i] = Vec<3>(d[4], d[5], d[6]);
-      v[i] = Vec<3>(d[7], d[8], d[9]);
-      std::size_t k = 10;
-      if (images_) {
-        for (int a = 0; a < 3; ++a) local_.component<ImageCount<3>>()[i][a] = static_cast<std::int32_t>(d[k + static_cast<std::size_t>(a)]);
-        k += 3;
+    if (rotating_) nl.wall_shear.resize(local_.size() * walls_);
+    was_.resize(local_.size(), none);
+    const Columns c = columns_of(local_);
+    for (std::size_t k = 0; k < starts.size(); ++k) {
+      const double* d = in.data() + starts[k];
+      const std::size_t i = first + k;
+      c.index[i] = d[0];
+      c.id[i] = static_cast<std::uint32_t>(d[1]);
+      c.mass[i] = d[2];
+      c.radius[i] = d[3];
+      c.x[i] = Vec<3>(d[4], d[5], d[6]);
+      c.v[i] = Vec<3>(d[7], d[8], d[9]);
+      std::size_t at = 10;
+      if (c.image) {
+        for (int a = 0; a < 3; ++a) c.image[i][a] = static_cast<std::int32_t>(d[at + static_cast<std::size_t>(a)]);
+        at += 3;
       }
-      if (rotating_) {
-        local_.component<AngularVelocity>()[i] = Vec<3>(d[k], d[k + 1], d[k + 2]);
-        k += 3;
-        for (std::size_t wall = 0; wall < walls_; ++wall, k += 3)
-          nl.wall_shear[i * walls_ + wall] = {d[k], d[k + 1], d[k + 2]};
+      if (c.omega) {
+        c.omega[i] = Vec<3>(d[at], d[at + 1], d[at + 2]);
+        at += 3;
+        for (std::size_t wall = 0; wall < walls_; ++wall, at += 3)
+          nl.wall_shear[i * walls_ + wall] = {d[at], d[at + 1], d[at + 2]};
       }
-      const auto springs = static_cast<std::size_t>(d[k++]);
-      for (std::size_t s = 0; s < springs; ++s, k += 4)
-        springs_[pair_key(id[i], static_cast<std::uint32_t>(d[k]))] = {d[k + 1], d[k + 2], d[k + 3]};
+      const auto count = static_cast<std::size_t>(d[at++]);
+      if (count == 0) continue;
+      auto& springs = arrived_[c.id[i]];
+      springs.clear();
+      for (std::size_t s = 0; s < count; ++s, at += 4)
+        springs.push_back({static_cast<std::uint32_t>(d[at]), {d[at + 1], d[at + 2], d[at + 3]}});
     }
   }
 
-  static std::uint64_t pair_key(std::uint32_t first, std::uint32_t second) {
-    return (static_cast<std::uint64_t>(first) << 32) | second;
+  // Reorders the local World (and what follows its spheres outside it):
+  // sphere k becomes the one that was order[k]; then keeps the first `kept`.
+  void reorder(const std::vector<std::uint32_t>& order, std::size_t kept) {
+    local_.permute(order);
+    auto& nl = local_.resource<NeighbourList<3>>();
+    std::vector<std::uint32_t> was(order.size());
+    std::vector<Shear> wall_shear(rotating_ ? order.size() * walls_ : 0);
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      was[k] = was_[order[k]];
+      for (std::size_t wall = 0; wall < (rotating_ ? walls_ : 0); ++wall)
+        wall_shear[k * walls_ + wall] = nl.wall_shear[order[k] * walls_ + wall];
+    }
+    was_.swap(was);
+    nl.wall_shear.swap(wall_shear);
+    local_.resize(kept);
+    was_.resize(kept);
+    if (rotating_) nl.wall_shear.resize(kept * walls_);
   }
 
-  // The lists over the held spheres, as neighbour_list.hpp builds them,
-  // on the cells of the layers held; the springs from the table, each pair
-  // taking that of its two spheres (negated where they swapped order).
-  void build_lists(const std::vector<Packed>& held) {
+  // The own spheres that left the slab to the rank that owns them now, a
+  // neighbour at a time until every sphere is home (one round, but where
+  // the slabs moved), and (every balance.every_steps) the slabs moved to
+  // even out the spheres. The arrivals are appended to the local World;
+  // returns the rank's own spheres now, in the whole system's order as of
+  // the last build.
+  std::vector<std::uint32_t> migrate() {
+    const std::int64_t step = local_.resource<Clock>().step;
+    std::vector<std::size_t> layer(local_.size(), 0);
+    const auto& x = local_.component<Position<3>>();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(below_, below_ + owned_, 4096), [&](const auto& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i) layer[i] = layer_of(x[i]);
+    });
+    if (balance_.every_steps > 0 && step - last_balance_ >= balance_.every_steps) {
+      last_balance_ = step;
+      std::vector<double> per_layer(static_cast<std::size_t>(slab_.cells), 0.0);
+      for (std::size_t i = below_; i < below_ + owned_; ++i) per_layer[layer[i]] += 1.0;
+      move_bounds_if_uneven(ranks_.add_across(per_layer));
+    }
+    std::vector<double> down, up;
+    std::vector<std::uint32_t> staying;
+    staying.reserve(owned_);
+    const Columns c = columns_of(local_);
+    for (std::size_t i = below_; i < below_ + owned_; ++i) {
+      const int owner = slab_.owner(static_cast<double>(layer[i]));
+      if (owner == slab_.rank) staying.push_back(static_cast<std::uint32_t>(i));
+      else pack(c, i, owner < slab_.rank ? down : up);
+    }
+    std::vector<double> arrived_below, arrived_above;
+    for (;;) {
+      const auto received = ranks_.exchange_with_neighbours(slab_.below(), down, slab_.above(), up, 2);
+      down.clear();
+      up.clear();
+      std::int64_t travelling = 0;
+      for (const bool from_below : {true, false}) {
+        const auto& in = from_below ? received.from_below : received.from_above;
+        for (const std::size_t at : starts_of(in)) {
+          const std::size_t length = fixed_width() + 1 + 4 * static_cast<std::size_t>(in[at + fixed_width()]);
+          const int owner = slab_.owner(static_cast<double>(layer_of_packed(in.data() + at)));
+          auto& to = owner == slab_.rank ? (from_below ? arrived_below : arrived_above)
+                                         : (owner < slab_.rank ? down : up);
+          travelling += owner != slab_.rank;
+          to.insert(to.end(), in.begin() + static_cast<std::ptrdiff_t>(at),
+                    in.begin() + static_cast<std::ptrdiff_t>(at + length));
+        }
+      }
+      if (ranks_.sum(travelling) == 0) break;
+    }
+    // Arrivals from below come before the rank's own in the whole system's
+    // order, those from above after; one passed on over several ranks
+    // arrives after those from nearer ones, so each side's go in by their
+    // whole index.
+    std::vector<std::uint32_t> own;
+    own.reserve(staying.size() + 64);
+    for (const auto* in : {&arrived_below, &arrived_above}) {
+      std::vector<std::size_t> starts = starts_of(*in);
+      std::sort(starts.begin(), starts.end(), [&](std::size_t a, std::size_t b) { return (*in)[a] < (*in)[b]; });
+      const std::size_t first = local_.size();
+      append(*in, starts);
+      if (in == &arrived_above) own.insert(own.end(), staying.begin(), staying.end());
+      for (std::size_t k = 0; k < starts.size(); ++k) own.push_back(static_cast<std::uint32_t>(first + k));
+    }
+    return own;
+  }
+
+  // The own spheres (`own`, in the whole system's order) in cell order, the
+  // copies of their lowest and highest layer sent to the neighbours, and
+  // theirs put either side; what the rank no longer holds is dropped. One
+  // permutation of the local World.
+  void add_copies(const std::vector<std::uint32_t>& own) {
+    const std::size_t count = own.size();
+    const auto& x = local_.component<Position<3>>();
+    const std::size_t stride = grid_.stride(2);
+    const std::size_t cells = grid_.cell_count();
+    std::vector<std::uint32_t> cell(count), start(cells + 1), members(count), scratch;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& r) {
+      for (std::size_t k = r.begin(); k != r.end(); ++k) cell[k] = static_cast<std::uint32_t>(grid_.cell_of(x[own[k]]));
+    });
+    count_scan_fill(cell.data(), count, cells, start.data(), members.data(), scratch);
+    for (auto& m : members) m = own[m];
+    std::vector<double> down, up;
+    const auto low = static_cast<std::size_t>(slab_.low()), high = static_cast<std::size_t>(slab_.high());
+    const Columns c = columns_of(local_);
+    if (has_below())
+      for (std::uint32_t k = start[low * stride]; k < start[(low + 1) * stride]; ++k) pack(c, members[k], down);
+    if (has_above())
+      for (std::uint32_t k = start[(high - 1) * stride]; k < start[high * stride]; ++k) pack(c, members[k], up);
+    const auto received = ranks_.exchange_with_neighbours(slab_.below(), down, slab_.above(), up, 1);
+    const auto below_starts = starts_of(received.from_below), above_starts = starts_of(received.from_above);
+    const auto below_at = static_cast<std::uint32_t>(local_.size());
+    append(received.from_below, below_starts);
+    const auto above_at = static_cast<std::uint32_t>(local_.size());
+    append(received.from_above, above_starts);
+    std::vector<std::uint32_t> order;
+    order.reserve(local_.size());
+    for (std::uint32_t i = below_at; i < above_at; ++i) order.push_back(i);
+    order.insert(order.end(), members.begin(), members.end());
+    for (auto i = above_at; i < static_cast<std::uint32_t>(local_.size()); ++i) order.push_back(i);
+    const std::size_t kept = order.size();
+    std::vector<bool> taken(local_.size(), false);
+    for (const std::uint32_t i : order) taken[i] = true;
+    for (std::size_t i = 0; i < local_.size(); ++i)
+      if (!taken[i]) order.push_back(static_cast<std::uint32_t>(i));
+    reorder(order, kept);
+    below_ = below_starts.size();
+    owned_ = count;
+  }
+
+  // The lists over the held spheres, as neighbour_list.hpp builds them, on
+  // the cells of the layers held; each pair's spring is that of its two
+  // spheres (negated where they swapped order) in the last build's lists
+  // of the one this rank owned, or as it came with them.
+  void build_lists() {
     auto& nl = local_.resource<NeighbourList<3>>();
     const auto& box = local_.resource<Box<3>>();
-    const std::size_t n = held.size();
+    const std::size_t n = local_.size();
     const std::size_t stride = grid_.stride(2);
-    const std::size_t held_layers_count = held_layers().second - first_layer_;
-    const CellGrid<3> cells({}, box.length, {grid_.cells(0), grid_.cells(1), static_cast<int>(held_layers_count)},
+    const std::size_t held = held_layers().second - first_layer_;
+    const CellGrid<3> cells({}, box.length, {grid_.cells(0), grid_.cells(1), static_cast<int>(held)},
                             {box.periodic[0], box.periodic[1], false});
     std::vector<std::uint32_t> sorted_cell(n), start(cells.cell_count() + 1, 0);
     std::vector<std::array<double, 4>> sorted(n);
     const auto& x = local_.component<Position<3>>();
     const auto& radius = local_.component<Radius>();
-    for (std::size_t m = 0; m < n; ++m) {
-      sorted_cell[m] = static_cast<std::uint32_t>(held[m].cell - first_layer_ * stride);
-      for (int a = 0; a < 3; ++a) sorted[m][static_cast<std::size_t>(a)] = x[m][a];
-      sorted[m][3] = radius[m];
-      ++start[sorted_cell[m] + 1];
-    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
+      for (std::size_t m = r.begin(); m != r.end(); ++m) {
+        sorted_cell[m] = static_cast<std::uint32_t>(grid_.cell_of(x[m]) - first_layer_ * stride);
+        for (int a = 0; a < 3; ++a) sorted[m][static_cast<std::size_t>(a)] = x[m][a];
+        sorted[m][3] = radius[m];
+      }
+    });
+    for (std::size_t m = 0; m < n; ++m) ++start[sorted_cell[m] + 1];
     for (std::size_t c = 0; c < cells.cell_count(); ++c) start[c + 1] += start[c];
     nl.order.resize(n);
     std::iota(nl.order.begin(), nl.order.end(), 0u);
     list_partners(cells, start, sorted_cell, sorted, box, nl);
-    nl.slabs.resize(held_layers_count + 1);
-    for (std::size_t s = 0; s <= held_layers_count; ++s) nl.slabs[s] = start[s * stride];
+    nl.slabs.resize(held + 1);
+    for (std::size_t s = 0; s <= held; ++s) nl.slabs[s] = start[s * stride];
     nl.periodic_slabs = false;
-    if (nl.keeps_history) {
-      const auto& id = local_.component<ParticleId>();
-      nl.shear.assign(nl.list.size(), Shear{});
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nl.list.size(), 4096), [&](const auto& r) {
-        for (std::size_t p = r.begin(); p != r.end(); ++p) {
-          const std::uint32_t a = id[nl.first[p]], b = id[nl.list[p]];
-          if (const auto found = springs_.find(pair_key(a, b)); found != springs_.end()) {
-            nl.shear[p] = found->second;
-          } else if (const auto swapped = springs_.find(pair_key(b, a)); swapped != springs_.end()) {
-            for (int k = 0; k < 3; ++k) nl.shear[p][static_cast<std::size_t>(k)] = -swapped->second[static_cast<std::size_t>(k)];
-          }
-        }
-      });
-    }
+    if (nl.keeps_history) carry_springs(nl);
     nl.derive();
+    move_own_only(nl);
     nl.reference.assign(x.values.begin(), x.values.end());
     nl.displacement_step = -1;
+  }
+
+  void carry_springs(NeighbourList<3>& nl) const {
+    const auto& id = local_.component<ParticleId>();
+    nl.shear.assign(nl.list.size(), Shear{});
+    // The spring of the pair (a, b) as listed under a, if this rank has it.
+    const auto find = [&](std::uint32_t a, std::uint32_t b, Shear& h) {
+      if (was_[a] != none) {
+        for (std::uint32_t q = previous_.offsets[was_[a]]; q < previous_.offsets[was_[a] + 1]; ++q)
+          if (previous_ids_[previous_.list[q]] == id[b]) {
+            h = previous_.shear[q];
+            return true;
+          }
+        return false;
+      }
+      const auto found = arrived_.find(id[a]);
+      if (found == arrived_.end()) return false;
+      for (const auto& [partner, spring] : found->second)
+        if (partner == id[b]) {
+          h = spring;
+          return true;
+        }
+      return false;
+    };
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nl.list.size(), 4096), [&](const auto& r) {
+      for (std::size_t p = r.begin(); p != r.end(); ++p) {
+        const std::uint32_t a = nl.first[p], b = nl.list[p];
+        Shear h{};
+        if (find(a, b, h)) {
+          nl.shear[p] = h;
+        } else if (find(b, a, h)) {
+          for (double& c : h) c = -c;
+          nl.shear[p] = h;
+        }
+      }
+    });
   }
 
   // ---- the whole World ---------------------------------------------------
 
   void gather_into(World& whole) {
     const auto& nl = local_.resource<NeighbourList<3>>();
-    const auto& x = local_.component<Position<3>>();
-    const auto& index = local_.component<WholeIndex>();
+    const Columns c = columns_of(local_);
     // Per sphere: position, velocity, force, reference, id, mass, radius,
     // images, spin and torque, wall springs, its pair count.
     const std::size_t width = 16 + (images_ ? 3 : 0) + (rotating_ ? 6 + 3 * walls_ : 0);
@@ -668,24 +783,24 @@ class DemDomainStep : public DemDomainStepBase {
     spheres.reserve(owned_ * width);
     for (std::size_t i = below_; i < below_ + owned_; ++i) {
       const auto add = [&](const auto& vec) { spheres.insert(spheres.end(), vec.data(), vec.data() + 3); };
-      add(x[i]);
-      add(local_.component<Velocity<3>>()[i]);
-      add(local_.component<Force<3>>()[i]);
+      add(c.x[i]);
+      add(c.v[i]);
+      add(c.f[i]);
       add(nl.reference[i]);
-      spheres.push_back(local_.component<ParticleId>()[i]);
-      spheres.push_back(local_.component<Mass>()[i]);
-      spheres.push_back(local_.component<Radius>()[i]);
-      if (images_)
-        for (int a = 0; a < 3; ++a) spheres.push_back(local_.component<ImageCount<3>>()[i][a]);
-      if (rotating_) {
-        add(local_.component<AngularVelocity>()[i]);
-        add(local_.component<Torque>()[i]);
+      spheres.push_back(c.id[i]);
+      spheres.push_back(c.mass[i]);
+      spheres.push_back(c.radius[i]);
+      if (c.image)
+        for (int a = 0; a < 3; ++a) spheres.push_back(c.image[i][a]);
+      if (c.omega) {
+        add(c.omega[i]);
+        add(c.torque[i]);
         for (std::size_t w = 0; w < walls_; ++w) add(nl.wall_shear[i * walls_ + w]);
       }
       const auto [begin, end] = nl.pairs_of(i);
       spheres.push_back(end - begin);
       for (std::uint32_t p = begin; p < end; ++p) {
-        pairs.push_back(index[nl.list[p]]);
+        pairs.push_back(c.index[nl.list[p]]);
         if (nl.keeps_history) pairs.insert(pairs.end(), nl.shear[p].begin(), nl.shear[p].end());
       }
     }
@@ -701,25 +816,27 @@ class DemDomainStep : public DemDomainStepBase {
     whole_nl.offsets.assign(n + 1, 0);
     whole_nl.wall_shear.assign(whole_nl.keeps_history ? n * walls_ : 0, Shear{});
     std::vector<std::uint32_t> per_layer(static_cast<std::size_t>(grid_.cells(2)) + 1, 0);
+    const Columns w = columns_of(whole);
     for (std::size_t i = 0; i < n; ++i) {
       const double* d = all.data() + i * width;
-      whole.component<Position<3>>()[i] = Vec<3>(d[0], d[1], d[2]);
-      whole.component<Velocity<3>>()[i] = Vec<3>(d[3], d[4], d[5]);
-      whole.component<Force<3>>()[i] = Vec<3>(d[6], d[7], d[8]);
+      w.x[i] = Vec<3>(d[0], d[1], d[2]);
+      w.v[i] = Vec<3>(d[3], d[4], d[5]);
+      w.f[i] = Vec<3>(d[6], d[7], d[8]);
       whole_nl.reference[i] = Vec<3>(d[9], d[10], d[11]);
-      whole.component<ParticleId>()[i] = static_cast<std::uint32_t>(d[12]);
-      whole.component<Mass>()[i] = d[13];
-      whole.component<Radius>()[i] = d[14];
+      w.id[i] = static_cast<std::uint32_t>(d[12]);
+      w.mass[i] = d[13];
+      w.radius[i] = d[14];
       std::size_t k = 15;
-      if (images_) {
-        for (int a = 0; a < 3; ++a) whole.component<ImageCount<3>>()[i][a] = static_cast<std::int32_t>(d[k + static_cast<std::size_t>(a)]);
+      if (w.image) {
+        for (int a = 0; a < 3; ++a) w.image[i][a] = static_cast<std::int32_t>(d[k + static_cast<std::size_t>(a)]);
         k += 3;
       }
-      if (rotating_) {
-        whole.component<AngularVelocity>()[i] = Vec<3>(d[k], d[k + 1], d[k + 2]);
-        whole.component<Torque>()[i] = Vec<3>(d[k + 3], d[k + 4], d[k + 5]);
+      if (w.omega) {
+        w.omega[i] = Vec<3>(d[k], d[k + 1], d[k + 2]);
+        w.torque[i] = Vec<3>(d[k + 3], d[k + 4], d[k + 5]);
         k += 6;
-        for (std::size_t w = 0; w < walls_; ++w, k += 3) whole_nl.wall_shear[i * walls_ + w] = {d[k], d[k + 1], d[k + 2]};
+        for (std::size_t wall = 0; wall < walls_; ++wall, k += 3)
+          whole_nl.wall_shear[i * walls_ + wall] = {d[k], d[k + 1], d[k + 2]};
       }
       whole_nl.offsets[i + 1] = whole_nl.offsets[i] + static_cast<std::uint32_t>(d[k]);
       ++per_layer[layer_of(whole_nl.reference[i]) + 1];
@@ -781,7 +898,13 @@ class DemDomainStep : public DemDomainStepBase {
   // spheres [below_, below_ + owned_), the copies of the layer above.
   std::size_t below_ = 0, owned_ = 0;
   std::size_t send_low_ = 0, send_high_ = 0;  // own spheres in the lowest and highest layer
-  std::unordered_map<std::uint64_t, Shear> springs_;  // of the last build, by the pair's ids
+  // During a build: the lists of the last one, the ids of the spheres as
+  // they were then, and for each sphere now held where it was then, if
+  // this rank owned it (else `none`); the springs that came with spheres
+  // from other ranks, by the first sphere's id.
+  NeighbourList<3> previous_;
+  std::vector<std::uint32_t> previous_ids_, was_;
+  std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, Shear>>> arrived_;
   PhaseTimes<11> times_{{"drift", "agreement", "migration", "copies_at_build", "neighbour_list", "copies",
                          "forces", "energy_terms", "kick", "gather", "communication"}};
 };

@@ -27,9 +27,13 @@ namespace granflow::dem {
 struct ThreadDomains {
   std::vector<std::uint32_t> slab;
   std::vector<std::uint32_t> sphere;
+  // The spheres they were made for: all of them are some domain's, but for
+  // the copies of other ranks' spheres a rank of a system spread over MPI
+  // ranks holds and does not move (dem_domain_step.hpp).
+  std::size_t spheres = 0;
 
   std::size_t count() const { return sphere.empty() ? 0 : sphere.size() - 1; }
-  bool covers(std::size_t n) const { return count() > 0 && sphere.back() == n; }
+  bool covers(std::size_t n) const { return count() > 0 && spheres == n; }
 };
 
 // The spheres 0 .. n - 1 in `threads` equal runs (before lists exist).
@@ -38,6 +42,7 @@ inline ThreadDomains even_domains(std::size_t n, std::size_t threads) {
   ThreadDomains d;
   d.sphere.resize(threads + 1);
   for (std::size_t k = 0; k <= threads; ++k) d.sphere[k] = static_cast<std::uint32_t>(n * k / threads);
+  d.spheres = n;
   return d;
 }
 
@@ -66,6 +71,7 @@ inline ThreadDomains balanced_domains(const std::vector<std::uint32_t>& slabs, c
   }
   d.sphere.resize(threads + 1);
   for (std::size_t k = 0; k <= threads; ++k) d.sphere[k] = slabs[d.slab[k]];
+  d.spheres = slabs.back();
   return d;
 }
 
