@@ -96,9 +96,9 @@ struct WholeIndex : Column<double> {
   static constexpr const char* key = "dem_whole_index";
 };
 
-// When the slabs are rebalanced: at the first list build after every
-// `every_steps` steps (0: never), where the rank with the most spheres
-// holds more than `threshold` times the mean.
+// When the slabs are rebalanced: at the start and at the first list build
+// after every `every_steps` steps (0: never), where the busiest rank's load
+// (two per sphere, one per listed pair) exceeds `threshold` times the mean.
 struct DemDomainBalance {
   std::int64_t every_steps = 0;
   double threshold = 1.1;
@@ -217,7 +217,9 @@ class DemDomainStep : public DemDomainStepBase {
     last_balance_ = local_.resource<Clock>().step;
     if (balance_.every_steps > 0) {
       std::vector<double> per_layer(layers);
-      for (std::size_t s = 0; s < layers; ++s) per_layer[s] = whole_nl.slabs[s + 1] - whole_nl.slabs[s];
+      for (std::size_t s = 0; s < layers; ++s)
+        per_layer[s] = layer_load(whole_nl.slabs[s + 1] - whole_nl.slabs[s],
+                                  whole_nl.offsets[whole_nl.slabs[s + 1]] - whole_nl.offsets[whole_nl.slabs[s]]);
       move_bounds_if_uneven(per_layer);
     }
     local_.emplace_resource<Box<3>>(view.template read<Box<3>>());
@@ -332,6 +334,12 @@ class DemDomainStep : public DemDomainStepBase {
     send_high_ = has_above() ? nl.slabs[high + 1] - nl.slabs[high] : 0;
   }
 
+  // A layer's share of the step: two per sphere and one per listed pair, as
+  // the threads' domains weigh them (thread_domains.hpp).
+  static double layer_load(std::size_t spheres, std::size_t pairs) {
+    return 2.0 * static_cast<double>(spheres) + static_cast<double>(pairs);
+  }
+
   void move_bounds_if_uneven(const std::vector<double>& per_layer) {
     const std::vector<double> loads = SlabDomain::loads(per_layer, slab_.bounds);
     const double total = std::accumulate(loads.begin(), loads.end(), 0.0);
@@ -340,8 +348,8 @@ class DemDomainStep : public DemDomainStepBase {
     const auto bounds = SlabDomain::balanced(per_layer, slab_.ranks);
     if (bounds == slab_.bounds) return;
     slab_.bounds = bounds;
-    spdlog::info("step {}: the slabs now start at layers [{}] of {} (the busiest rank held {:.0f} spheres, the mean "
-                 "is {:.0f})",
+    spdlog::info("step {}: the slabs now start at layers [{}] of {} (the busiest rank's load was {:.0f}, the mean "
+                 "{:.0f}: two per sphere, one per pair)",
                  local_.resource<Clock>().step, fmt::join(bounds.begin(), bounds.end() - 1, ", "), slab_.cells, busiest,
                  total / static_cast<double>(slab_.ranks));
   }
@@ -570,10 +578,36 @@ class DemDomainStep : public DemDomainStepBase {
     }
   }
 
+  // Every column of the local World reordered (it has no listeners and
+  // holds no other columns) through buffers kept from build to build: World::permute
+  // would hand a large column's old storage back to the system each time
+  // and fault the next one's in, which costs the build more than the copy.
+  void permute_columns(const std::vector<std::uint32_t>& order) {
+    const auto permute = [&](auto& values, auto& spare) {
+      spare.resize(order.size());
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1u << 14), [&](const auto& r) {
+        for (std::size_t k = r.begin(); k != r.end(); ++k) spare[k] = values[order[k]];
+      });
+      values.swap(spare);
+    };
+    permute(local_.component<Position<3>>().values, spare_vectors_);
+    permute(local_.component<Velocity<3>>().values, spare_vectors_);
+    permute(local_.component<Force<3>>().values, spare_vectors_);
+    permute(local_.component<Mass>().values, spare_reals_);
+    permute(local_.component<Radius>().values, spare_reals_);
+    permute(local_.component<WholeIndex>().values, spare_reals_);
+    permute(local_.component<ParticleId>().values, spare_ids_);
+    if (images_) permute(local_.component<ImageCount<3>>().values, spare_images_);
+    if (rotating_) {
+      permute(local_.component<AngularVelocity>().values, spare_vectors_);
+      permute(local_.component<Torque>().values, spare_vectors_);
+    }
+  }
+
   // Reorders the local World (and what follows its spheres outside it):
   // sphere k becomes the one that was order[k]; then keeps the first `kept`.
   void reorder(const std::vector<std::uint32_t>& order, std::size_t kept) {
-    local_.permute(order);
+    permute_columns(order);
     auto& nl = local_.resource<NeighbourList<3>>();
     std::vector<std::uint32_t> was(order.size());
     std::vector<Shear> wall_shear(rotating_ ? order.size() * walls_ : 0);
@@ -604,8 +638,16 @@ class DemDomainStep : public DemDomainStepBase {
     });
     if (balance_.every_steps > 0 && step - last_balance_ >= balance_.every_steps) {
       last_balance_ = step;
+      // The spheres where they are now, their pairs where the last build
+      // listed them (its lists of the own layers are whole).
       std::vector<double> per_layer(static_cast<std::size_t>(slab_.cells), 0.0);
-      for (std::size_t i = below_; i < below_ + owned_; ++i) per_layer[layer[i]] += 1.0;
+      for (std::size_t i = below_; i < below_ + owned_; ++i) per_layer[layer[i]] += layer_load(1, 0);
+      const auto& slabs = local_.resource<NeighbourList<3>>().slabs;
+      for (auto layer_of_slab = static_cast<std::size_t>(slab_.low()); layer_of_slab < static_cast<std::size_t>(slab_.high());
+           ++layer_of_slab) {
+        const std::size_t k = layer_of_slab - first_layer_;
+        per_layer[layer_of_slab] += layer_load(0, previous_.offsets[slabs[k + 1]] - previous_.offsets[slabs[k]]);
+      }
       move_bounds_if_uneven(ranks_.add_across(per_layer));
     }
     std::vector<double> down, up;
@@ -662,20 +704,22 @@ class DemDomainStep : public DemDomainStepBase {
     const std::size_t count = own.size();
     const auto& x = local_.component<Position<3>>();
     const std::size_t stride = grid_.stride(2);
-    const std::size_t cells = grid_.cell_count();
+    // Every own sphere lies in the slab: its cells alone are counted.
+    const auto low = static_cast<std::size_t>(slab_.low()), high = static_cast<std::size_t>(slab_.high());
+    const std::size_t cells = (high - low) * stride;
     std::vector<std::uint32_t> cell(count), start(cells + 1), members(count), scratch;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& r) {
-      for (std::size_t k = r.begin(); k != r.end(); ++k) cell[k] = static_cast<std::uint32_t>(grid_.cell_of(x[own[k]]));
+      for (std::size_t k = r.begin(); k != r.end(); ++k)
+        cell[k] = static_cast<std::uint32_t>(grid_.cell_of(x[own[k]]) - low * stride);
     });
     count_scan_fill(cell.data(), count, cells, start.data(), members.data(), scratch);
     for (auto& m : members) m = own[m];
     std::vector<double> down, up;
-    const auto low = static_cast<std::size_t>(slab_.low()), high = static_cast<std::size_t>(slab_.high());
     const Columns c = columns_of(local_);
     if (has_below())
-      for (std::uint32_t k = start[low * stride]; k < start[(low + 1) * stride]; ++k) pack(c, members[k], down);
+      for (std::uint32_t k = start[0]; k < start[stride]; ++k) pack(c, members[k], down);
     if (has_above())
-      for (std::uint32_t k = start[(high - 1) * stride]; k < start[high * stride]; ++k) pack(c, members[k], up);
+      for (std::uint32_t k = start[cells - stride]; k < start[cells]; ++k) pack(c, members[k], up);
     const auto received = ranks_.exchange_with_neighbours(slab_.below(), down, slab_.above(), up, 1);
     const auto below_starts = starts_of(received.from_below), above_starts = starts_of(received.from_above);
     const auto below_at = static_cast<std::uint32_t>(local_.size());
@@ -725,14 +769,33 @@ class DemDomainStep : public DemDomainStepBase {
     nl.order.resize(n);
     std::iota(nl.order.begin(), nl.order.end(), 0u);
     list_partners(cells, start, sorted_cell, sorted, box, nl);
+    keep_pairs_of_own(nl);
     nl.slabs.resize(held + 1);
     for (std::size_t s = 0; s <= held; ++s) nl.slabs[s] = start[s * stride];
     nl.periodic_slabs = false;
-    if (nl.keeps_history) carry_springs(nl);
     nl.derive();
+    if (nl.keeps_history) carry_springs(nl);
     move_own_only(nl);
     nl.reference.assign(x.values.begin(), x.values.end());
     nl.displacement_step = -1;
+  }
+
+  // Only the pairs with a sphere of the rank's own: those of two copies
+  // (in the layer below, and all of the layer above, whose lists miss the
+  // layer beyond) give forces to copies only. The pairs kept stay in order,
+  // and an own sphere's pairs are all kept: its sum is unchanged.
+  void keep_pairs_of_own(NeighbourList<3>& nl) const {
+    const auto own = [&](std::uint32_t i) { return i >= below_ && i < below_ + owned_; };
+    std::size_t kept = 0;
+    for (std::size_t m = 0; m + 1 < nl.offsets.size(); ++m) {
+      const std::uint32_t begin = nl.offsets[m], end = nl.offsets[m + 1];
+      nl.offsets[m] = static_cast<std::uint32_t>(kept);
+      for (std::uint32_t p = begin; p < end; ++p)
+        if (own(static_cast<std::uint32_t>(m)) || own(nl.list[p])) nl.list[kept++] = nl.list[p];
+    }
+    nl.offsets.back() = static_cast<std::uint32_t>(kept);
+    nl.list.resize(kept);
+    nl.first.resize(kept);
   }
 
   void carry_springs(NeighbourList<3>& nl) const {
@@ -902,6 +965,10 @@ class DemDomainStep : public DemDomainStepBase {
   // they were then, and for each sphere now held where it was then, if
   // this rank owned it (else `none`); the springs that came with spheres
   // from other ranks, by the first sphere's id.
+  std::vector<Vec<3>> spare_vectors_;
+  std::vector<double> spare_reals_;
+  std::vector<std::uint32_t> spare_ids_;
+  std::vector<typename ImageCount<3>::value_type> spare_images_;
   NeighbourList<3> previous_;
   std::vector<std::uint32_t> previous_ids_, was_;
   std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, Shear>>> arrived_;

@@ -88,7 +88,7 @@ inline void declare_dem_keys(ConfigSchema& s, const DemDefaults& d) {
       .choice("run.integrator", "velocity_verlet", {"velocity_verlet", "position_verlet"},
               "velocity Verlet, or position Verlet with the backward-difference velocity")
       .real("output.interval", d.output_interval, 0.0, inf, "time between outputs", true);
-  declare_slab_balance_keys(s, 1000, "its slab's spheres, at the next list build");
+  declare_slab_balance_keys(s, 100, 1.05, "two per sphere of its slab and one per listed pair, at the next list build");
   ConfigSchema wall;
   wall.choice("axis", "z", {"x", "y", "z"}, "the axis the wall is perpendicular to")
       .real("position", 0.0, 0.0, inf, "its position along that axis (below the middle: spheres above it)")

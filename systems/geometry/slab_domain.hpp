@@ -85,10 +85,10 @@ struct SlabDomain {
 // When the slabs are rebalanced over MPI ranks: how often each rank's load
 // is counted (`load`: what it counts, for the description) and how uneven
 // it may grow. Declared once for every method that spreads a system so.
-inline void declare_slab_balance_keys(ConfigSchema& s, std::int64_t every_steps, const char* load) {
+inline void declare_slab_balance_keys(ConfigSchema& s, std::int64_t every_steps, double threshold, const char* load) {
   s.integer("balance.every_steps", every_steps, 0, 1000000000000,
             fmt::format("over MPI ranks: steps between counting each rank's load, {} (0: the slabs stay equal)", load))
-      .real("balance.threshold", 1.1, 1.0, std::numeric_limits<double>::infinity(),
+      .real("balance.threshold", threshold, 1.0, std::numeric_limits<double>::infinity(),
             "over MPI ranks: move the slabs' bounds when the busiest rank's load exceeds this times the mean");
   s.unit("balance.threshold", unit::none);
 }

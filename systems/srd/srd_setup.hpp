@@ -96,7 +96,7 @@ inline void declare_srd_keys(ConfigSchema& s, const SrdDefaults& d) {
       .unit("thermostat.temperature", unit::energy)
       .unit("srd.restitution", unit::none)
       .unit("balance.cell_weight", unit::none);
-  declare_slab_balance_keys(s, 500, "its slab's particles and cells");
+  declare_slab_balance_keys(s, 500, 1.1, "its slab's particles and cells");
   declare_stored_start_keys(s);
 }
 
