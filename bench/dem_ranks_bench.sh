@@ -41,12 +41,8 @@ for round in $(seq 1 "$rounds"); do
   beside+=("$(step_seconds "$scratch/beside_a.h5")")
   echo "round $round: 1 rank ${one[-1]} s/step, 2 ranks ${two[-1]} s/step, 1 rank beside another ${beside[-1]} s/step"
 done
-/usr/bin/python3 "$root/bench/ranks_profile.py" report "${one[*]}" "${two[*]}" "$scratch/two.h5" dem_domain_step
-/usr/bin/python3 - "${beside[*]}" "${two[*]}" <<'PY'
-import sys, statistics
-beside = [float(x) for x in sys.argv[1].split()]
-two = [float(x) for x in sys.argv[2].split()]
-ratios = [a / b for a, b in zip(beside, two)]
-print(f"median 1 rank beside another {statistics.median(beside) * 1e3:.2f} ms/step; against it the 2-rank step's "
-      f"efficiency is {statistics.median(ratios):.3f} (range {min(ratios):.3f}-{max(ratios):.3f})")
-PY
+profile="$root/bench/ranks_profile.py"
+/usr/bin/python3 "$profile" compare "1 rank" "${one[*]}" "2 ranks" "${two[*]}" "weak-scaling efficiency"
+/usr/bin/python3 "$profile" compare "1 rank beside another" "${beside[*]}" "2 ranks" "${two[*]}" \
+  "efficiency against a one-rank run beside another"
+/usr/bin/python3 "$profile" parts "$scratch/two.h5" dem_domain_step

@@ -1,12 +1,15 @@
 #!/usr/bin/env python3
-# What the weak-scaling benchmarks of one system over MPI ranks read from
-# the /profile of their result files (run with /usr/bin/python3, for h5py):
-#   step FILE NAME...          mean seconds per step of the named step systems
-#                              (the calls of the first one found are the steps)
-#   report ONES TWOS FILE PART  the medians of the rounds' times (ONES, TWOS:
-#                              space-separated seconds per step), the
-#                              efficiency t(1 rank) / t(2 ranks), and each
-#                              rank's parts `PART.rank<r>.<part>` of FILE's step
+# What the benchmarks of one system over MPI ranks read from the /profile of
+# their result files and print (run with /usr/bin/python3, for h5py):
+#   step FILE NAME...        mean seconds per step of the named step systems
+#                            (the calls of the first one found are the steps)
+#   compare A TIMES_A B TIMES_B WHAT
+#                            the medians of two programs' times per step, run
+#                            by turns (TIMES_*: space-separated seconds), and
+#                            WHAT: the median (and range) of the rounds'
+#                            ratios time A / time B
+#   parts FILE STEP          each rank's parts `STEP.rank<r>.<part>` of FILE's
+#                            step, in ms per step
 import statistics
 import sys
 
@@ -26,23 +29,30 @@ def step(path, names):
     print(sum(table[n][1] for n in present) / steps)
 
 
-def report(ones, twos, path, part):
-    one = [float(x) for x in ones.split()]
-    two = [float(x) for x in twos.split()]
-    ratios = [a / b for a, b in zip(one, two)]
-    print(f"median 1 rank {statistics.median(one) * 1e3:.2f} ms/step, 2 ranks {statistics.median(two) * 1e3:.2f} ms/step")
-    print(f"weak-scaling efficiency: median of the rounds' ratios {statistics.median(ratios):.3f} "
+def compare(name_a, times_a, name_b, times_b, what):
+    a = [float(x) for x in times_a.split()]
+    b = [float(x) for x in times_b.split()]
+    ratios = [x / y for x, y in zip(a, b)]
+    print(f"median {name_a} {statistics.median(a) * 1e3:.2f} ms/step, {name_b} {statistics.median(b) * 1e3:.2f} ms/step")
+    print(f"{what}: median of the rounds' ratios {statistics.median(ratios):.3f} "
           f"(range {min(ratios):.3f}-{max(ratios):.3f})")
+
+
+def parts(path, step_name):
     table = rows(path)
-    steps = table[part][0]
-    parts = [n.split(".")[-1] for n in table if n.startswith(part + ".rank0.")]
-    print("parts of the 2-rank step, ms/step:", " ".join(f"{'rank ' + str(r):>8}" for r in range(2)))
-    for p in parts:
-        print(f"  {p:<16}", " ".join(f"{table[f'{part}.rank{r}.{p}'][1] / steps * 1e3:8.2f}" for r in range(2)))
+    steps = table[step_name][0]
+    ranks = sorted({int(n.split(".")[1][4:]) for n in table if n.startswith(step_name + ".rank")})
+    names = [n.split(".")[-1] for n in table if n.startswith(step_name + ".rank0.")]
+    print("parts of the step over ranks, ms/step:", " ".join(f"{'rank ' + str(r):>8}" for r in ranks))
+    for p in names:
+        print(f"  {p:<16}", " ".join(f"{table[f'{step_name}.rank{r}.{p}'][1] / steps * 1e3:8.2f}" for r in ranks))
 
 
 if __name__ == "__main__":
-    if sys.argv[1] == "step":
-        step(sys.argv[2], sys.argv[3:])
+    command, arguments = sys.argv[1], sys.argv[2:]
+    if command == "step":
+        step(arguments[0], arguments[1:])
+    elif command == "compare":
+        compare(*arguments[:5])
     else:
-        report(*sys.argv[2:6])
+        parts(*arguments[:2])

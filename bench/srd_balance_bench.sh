@@ -27,14 +27,7 @@ cooling="$root/scenarios/gsrd_cooling.toml"
 /usr/bin/python3 "$root/tools/denser_at_one_end.py" "$scratch/even.h5" "$scratch/lumpy.h5" --temperature 1
 common=(--set 'system.cells=[50,50,80]' --set initial.from="$scratch/lumpy.h5" --set srd.restitution=1
         --set run.steps="$steps" --set output.points_per_decade=1 -q --threads 1)
-step_seconds() {  # step_seconds FILE: seconds per step of the slab step
-  /usr/bin/python3 - "$1" "$steps" <<'PY'
-import sys, h5py
-f = h5py.File(sys.argv[1], "r")
-names = [n.decode() if isinstance(n, bytes) else n for n in f["profile/system"][()]]
-print(dict(zip(names, f["profile/total_seconds"][()])).get("srd_domain_step", 0.0) / int(sys.argv[2]))
-PY
-}
+step_seconds() { /usr/bin/python3 "$root/bench/ranks_profile.py" step "$1" srd_domain_step; }
 fixed=() balanced=()
 for round in $(seq 1 "$rounds"); do
   mpirun -np 2 --oversubscribe --bind-to none "$granflow" run "$cooling" "${common[@]}" --set balance.every_steps=0 \
@@ -45,11 +38,4 @@ for round in $(seq 1 "$rounds"); do
   balanced+=("$(step_seconds "$scratch/balanced.h5")")
   echo "round $round: fixed slabs ${fixed[-1]} s/step, rebalanced ${balanced[-1]} s/step"
 done
-/usr/bin/python3 - "${fixed[*]}" "${balanced[*]}" <<'PY'
-import sys, statistics
-fixed = [float(x) for x in sys.argv[1].split()]
-balanced = [float(x) for x in sys.argv[2].split()]
-ratios = [a / b for a, b in zip(fixed, balanced)]
-print(f"median fixed {statistics.median(fixed) * 1e3:.1f} ms/step, rebalanced {statistics.median(balanced) * 1e3:.1f} ms/step")
-print(f"speed-up: median of the rounds' ratios {statistics.median(ratios):.3f} (range {min(ratios):.3f}-{max(ratios):.3f})")
-PY
+/usr/bin/python3 "$root/bench/ranks_profile.py" compare "fixed" "${fixed[*]}" "rebalanced" "${balanced[*]}" "speed-up"

@@ -19,16 +19,8 @@ scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 common=(--set run.steps="$steps" --set output.points_per_decade=1 -q --threads 1)
 
-step_seconds() {  # step_seconds FILE: mean seconds per step of the step systems
-  /usr/bin/python3 - "$1" "$steps" <<'PY'
-import sys, h5py
-f = h5py.File(sys.argv[1], "r")
-names = [n.decode() if isinstance(n, bytes) else n for n in f["profile/system"][()]]
-total = f["profile/total_seconds"][()]
-step = ("srd_streaming", "srd_grid_shift", "srd_cell_binning", "srd_cell_reduction", "srd_rotation", "srd_domain_step")
-print(sum(t for n, t in zip(names, total) if n in step) / int(sys.argv[2]))
-PY
-}
+step_names=(srd_streaming srd_grid_shift srd_cell_binning srd_cell_reduction srd_rotation srd_domain_step)
+step_seconds() { /usr/bin/python3 "$root/bench/ranks_profile.py" step "$1" "${step_names[@]}"; }
 
 one=() two=()
 for round in $(seq 1 "$rounds"); do
@@ -39,19 +31,5 @@ for round in $(seq 1 "$rounds"); do
   two+=("$(step_seconds "$scratch/two.h5")")
   echo "round $round: 1 rank ${one[-1]} s/step, 2 ranks ${two[-1]} s/step"
 done
-/usr/bin/python3 - "${one[*]}" "${two[*]}" "$scratch/two.h5" "$steps" <<'PY'
-import sys, statistics, h5py
-one = [float(x) for x in sys.argv[1].split()]
-two = [float(x) for x in sys.argv[2].split()]
-ratios = [a / b for a, b in zip(one, two)]
-print(f"median 1 rank {statistics.median(one) * 1e3:.1f} ms/step, 2 ranks {statistics.median(two) * 1e3:.1f} ms/step")
-print(f"weak-scaling efficiency: median of the rounds' ratios {statistics.median(ratios):.3f} "
-      f"(range {min(ratios):.3f}-{max(ratios):.3f})")
-f = h5py.File(sys.argv[3], "r")
-names = [n.decode() if isinstance(n, bytes) else n for n in f["profile/system"][()]]
-rows = dict(zip(names, f["profile/total_seconds"][()]))
-parts = [n.split(".")[-1] for n in names if n.startswith("srd_domain_step.rank0.")]
-print("parts of the 2-rank step, ms/step:", " ".join(f"{'rank ' + str(r):>8}" for r in range(2)))
-for part in parts:
-    print(f"  {part:<16}", " ".join(f"{rows[f'srd_domain_step.rank{r}.{part}'] / int(sys.argv[4]) * 1e3:8.2f}" for r in range(2)))
-PY
+/usr/bin/python3 "$root/bench/ranks_profile.py" compare "1 rank" "${one[*]}" "2 ranks" "${two[*]}" "weak-scaling efficiency"
+/usr/bin/python3 "$root/bench/ranks_profile.py" parts "$scratch/two.h5" srd_domain_step
