@@ -58,10 +58,15 @@ class Communicator {
   // the same call: a step that sums something anyway needs no second one.
   std::int64_t sum_agreeing_on_interrupt(std::int64_t count) const {
     constexpr std::int64_t flag = std::int64_t{1} << 40;
-    const bool mine = local_interrupt_ && local_interrupt_->load();
-    const std::int64_t total = sum(count + (mine ? flag : 0));
-    if (local_interrupt_) agreed_interrupt_.store(total >= flag);
+    const std::int64_t total = sum(count + (interrupted_here() ? flag : 0));
+    agree_on_interrupt(total >= flag);
     return total % flag;
+  }
+  // For a step that agrees on the signal inside a collective call of its
+  // own: this process's flag to send, then whether any rank's was set.
+  bool interrupted_here() const { return local_interrupt_ && local_interrupt_->load(); }
+  void agree_on_interrupt(bool any) const {
+    if (local_interrupt_) agreed_interrupt_.store(any);
   }
 
  private:

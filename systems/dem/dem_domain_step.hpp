@@ -8,7 +8,8 @@
 //
 //  - velocity Verlet's half kick and drift of every sphere the rank holds;
 //  - the ranks agree whether some sphere moved half the skin since the
-//    last build (and on a signal), in one sum;
+//    last build, and on a signal, in one gather, which also adds the last
+//    step's energy terms over the ranks (the one synchronisation a step);
 //  - if not, each rank sends the positions and velocities of its lowest
 //    and highest layer to the neighbours whose copies they are;
 //  - if so: the watchdog's check of every position, then the spheres that
@@ -16,8 +17,9 @@
 //    the slabs move so that each holds about as many spheres), the copies
 //    of the edge layers are sent anew, and the lists are built over the
 //    spheres the rank holds;
-//  - the contact forces, the second half kick, and the energy terms of the
-//    step, summed per layer and added over the layers in their order.
+//  - the contact forces and the second half kick; the energy terms of the
+//    step are summed per layer, and added over the layers in their order
+//    at the next step's gather, or at the next gather of the whole system.
 //
 // Every sphere's force is summed as on one rank, bit for bit: a rank holds
 // its spheres in the whole system's cell order (each carries its index in
@@ -135,15 +137,32 @@ class DemDomainStep : public DemDomainStepBase {
     const auto& nl = local_.resource<NeighbourList<3>>();
     const double moved = nl.displacement_step == local_.resource<Clock>().step ? nl.displacement_squared
                                                                                 : largest_owned_displacement();
-    std::int64_t builders = 0;
-    times_.timed(1, [&] { builders = ranks_.sum_agreeing_on_interrupt(!(moved <= 0.25 * nl.skin * nl.skin) ? 1 : 0); });
-    if (builders > 0) {
+    // One gather a step: whether the rank must build, its signal, and the
+    // last step's energy terms.
+    std::vector<double> mine{!(moved <= 0.25 * nl.skin * nl.skin) ? 1.0 : 0.0, ranks_.interrupted_here() ? 1.0 : 0.0};
+    const bool booking = pending_valid_;
+    if (booking) mine.insert(mine.end(), pending_.begin(), pending_.end());
+    std::vector<double> all;
+    times_.timed(1, [&] { all = ranks_.gather_all(mine); });
+    bool build = false, interrupted = false;
+    std::vector<double> terms;
+    for (std::size_t r = 0, at = 0; r < static_cast<std::size_t>(slab_.ranks); ++r) {
+      build |= all[at] != 0.0;
+      interrupted |= all[at + 1] != 0.0;
+      const std::size_t length = booking ? energy_width() * static_cast<std::size_t>(slab_.bounds[r + 1] - slab_.bounds[r]) : 0;
+      terms.insert(terms.end(), all.begin() + static_cast<std::ptrdiff_t>(at + 2),
+                   all.begin() + static_cast<std::ptrdiff_t>(at + 2 + length));
+      at += 2 + length;
+    }
+    ranks_.agree_on_interrupt(interrupted);
+    if (booking) book_energy_terms(view, terms);
+    if (build) {
       if (!rebuild(view)) return;
     } else {
       times_.timed(5, [&] { refresh_copies(); });
     }
     times_.timed(6, [&] { forces_.run(local_); });
-    times_.timed(7, [&] { add_energy_terms(view); });
+    times_.timed(7, [&] { keep_energy_terms(); });
     times_.timed(8, [&] { kick_.run(local_); });
     host_current_ = false;
   }
@@ -151,6 +170,11 @@ class DemDomainStep : public DemDomainStepBase {
   // Every rank's spheres into the whole World, in the whole system's order,
   // with the lists as one rank would hold them.
   void synchronise_host(World& whole) override {
+    if (pending_valid_) {
+      std::vector<double> all;
+      times_.timed(10, [&] { all = ranks_.gather_all(pending_); });
+      book_energy_terms(View(whole), all);
+    }
     if (host_current_ || !scattered_) return;
     times_.timed(9, [&] { gather_into(whole); });
     host_current_ = true;
@@ -400,25 +424,38 @@ class DemDomainStep : public DemDomainStepBase {
     unpack_moved(received.from_above, below_ + owned_);
   }
 
-  // The force pass's sums per layer, over the ranks in layer order, into
-  // the whole system's energy terms; the step's trapezoid into the ledger.
-  void add_energy_terms(View view) {
+  // The values one layer adds to the step's energy terms: the pairs'
+  // sums, then each wall's.
+  std::size_t energy_width() const {
+    return DemContactForces<3>::pair_sums + DemContactForces<3>::wall_sums * walls_;
+  }
+
+  // The force pass's sums of the rank's own layers, kept until the next
+  // step's gather adds them over the ranks (or the next gather of the whole
+  // system, where observers read them first), so that a step synchronises
+  // the ranks once.
+  void keep_energy_terms() {
     constexpr std::size_t P = DemContactForces<3>::pair_sums, W = DemContactForces<3>::wall_sums;
-    const std::size_t per_layer = P + W * walls_;
     const auto& pairs = forces_.pair_slab_sums();
     const auto& walls = forces_.wall_slab_sums();
-    std::vector<double> mine;
-    mine.reserve(static_cast<std::size_t>(slab_.high() - slab_.low()) * per_layer);
+    pending_.clear();
     for (auto layer = static_cast<std::size_t>(slab_.low()); layer < static_cast<std::size_t>(slab_.high()); ++layer) {
       const std::size_t s = layer - first_layer_;
-      mine.insert(mine.end(), pairs.begin() + static_cast<std::ptrdiff_t>(P * s),
-                  pairs.begin() + static_cast<std::ptrdiff_t>(P * (s + 1)));
+      pending_.insert(pending_.end(), pairs.begin() + static_cast<std::ptrdiff_t>(P * s),
+                      pairs.begin() + static_cast<std::ptrdiff_t>(P * (s + 1)));
       for (std::size_t w = 0; w < walls_; ++w)
-        mine.insert(mine.end(), walls[w].begin() + static_cast<std::ptrdiff_t>(W * s),
-                    walls[w].begin() + static_cast<std::ptrdiff_t>(W * (s + 1)));
+        pending_.insert(pending_.end(), walls[w].begin() + static_cast<std::ptrdiff_t>(W * s),
+                        walls[w].begin() + static_cast<std::ptrdiff_t>(W * (s + 1)));
     }
-    std::vector<double> all;
-    times_.timed(10, [&] { all = ranks_.gather_all(mine); });
+    pending_valid_ = true;
+  }
+
+  // Every layer's sums, in layer order, into the whole system's energy
+  // terms (added over the layers as one rank adds its slabs), and that
+  // step's trapezoid into the ledger.
+  void book_energy_terms(View view, const std::vector<double>& all) {
+    constexpr std::size_t P = DemContactForces<3>::pair_sums, W = DemContactForces<3>::wall_sums;
+    const std::size_t per_layer = energy_width();
     const std::size_t layers = all.size() / per_layer;
     std::vector<double> pair_partial(P * layers);
     std::vector<std::vector<double>> wall_partial(walls_, std::vector<double>(W * layers));
@@ -431,6 +468,7 @@ class DemDomainStep : public DemDomainStepBase {
     auto& in = view.template write<DemInteractions<3>>();
     DemContactForces<3>::add_slab_sums(pair_partial, wall_partial, layers, in);
     view.template write<DemLedger>().book(dt_, in.wall_power, in.dissipation_power);
+    pending_valid_ = false;
   }
 
   // ---- a list build ------------------------------------------------------
@@ -821,16 +859,7 @@ class DemDomainStep : public DemDomainStepBase {
       return false;
     };
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nl.list.size(), 4096), [&](const auto& r) {
-      for (std::size_t p = r.begin(); p != r.end(); ++p) {
-        const std::uint32_t a = nl.first[p], b = nl.list[p];
-        Shear h{};
-        if (find(a, b, h)) {
-          nl.shear[p] = h;
-        } else if (find(b, a, h)) {
-          for (double& c : h) c = -c;
-          nl.shear[p] = h;
-        }
-      }
+      for (std::size_t p = r.begin(); p != r.end(); ++p) nl.shear[p] = carried_spring(nl.first[p], nl.list[p], find);
     });
   }
 
@@ -965,6 +994,8 @@ class DemDomainStep : public DemDomainStepBase {
   // they were then, and for each sphere now held where it was then, if
   // this rank owned it (else `none`); the springs that came with spheres
   // from other ranks, by the first sphere's id.
+  std::vector<double> pending_;  // the last force pass's sums of the own layers, not yet added over the ranks
+  bool pending_valid_ = false;
   std::vector<Vec<3>> spare_vectors_;
   std::vector<double> spare_reals_;
   std::vector<std::uint32_t> spare_ids_;
@@ -973,7 +1004,7 @@ class DemDomainStep : public DemDomainStepBase {
   std::vector<std::uint32_t> previous_ids_, was_;
   std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, Shear>>> arrived_;
   PhaseTimes<11> times_{{"drift", "agreement", "migration", "copies_at_build", "neighbour_list", "copies",
-                         "forces", "energy_terms", "kick", "gather", "communication"}};
+                         "forces", "energy_terms", "kick", "gather", "energy_at_gather"}};
 };
 
 }  // namespace granflow::dem

@@ -280,6 +280,20 @@ CellGrid<D> list_cells(const Box<D>& box, double range, std::size_t spheres) {
   return CellGrid<D>({}, box.length, cells, box.periodic);
 }
 
+// The spring a pair (a, b) of a new build takes from the last one, where
+// find(a, b, h) gives the spring of (a, b) as listed under a: that one, or
+// the one listed under b negated (the two swapped order), or none.
+template <class Find>
+Shear carried_spring(std::uint32_t a, std::uint32_t b, const Find& find) {
+  Shear h{};
+  if (find(a, b, h)) return h;
+  if (find(b, a, h)) {
+    for (double& c : h) c = -c;
+    return h;
+  }
+  return Shear{};
+}
+
 template <int D>
 using DemNeighbourListBase = SystemOf<Reads<Clock, Radius, Box<D>, DemWatch<D>>,
                                       Writes<Position<D>, NeighbourList<D>, RunControl, EveryColumn>>;
@@ -415,16 +429,7 @@ class DemNeighbourList : public DemNeighbourListBase<D> {
         const std::uint32_t a = old_index(i);
         for (std::size_t w = 0; w < nl.walls; ++w) nl.wall_shear[i * nl.walls + w] = previous.wall_shear[a * nl.walls + w];
         const auto [begin, end] = nl.pairs_of(i);
-        for (std::uint32_t p = begin; p < end; ++p) {
-          const std::uint32_t b = old_index(nl.list[p]);
-          Shear h{};
-          if (find(a, b, h)) {
-            nl.shear[p] = h;
-          } else if (find(b, a, h)) {
-            for (double& c : h) c = -c;
-            nl.shear[p] = h;
-          }
-        }
+        for (std::uint32_t p = begin; p < end; ++p) nl.shear[p] = carried_spring(a, old_index(nl.list[p]), find);
       }
     });
   }

@@ -1,6 +1,7 @@
 # What the tests of one system over MPI ranks share (sourced after
 # common.sh, with $granflow and $mpiexec set).
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 # ranks K ARGS...: granflow on K ranks, oversubscribed on a small machine.
 ranks() { local n="$1"; shift; "$mpiexec" -np "$n" --oversubscribe --bind-to none "$granflow" "$@"; }
 

@@ -34,7 +34,6 @@ granflow="$1"
 mpiexec="$2"
 scenarios="$3"
 source "$(dirname "$0")/common.sh"
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 source "$(dirname "$0")/ranks_common.sh"
 
 cooling="$scenarios/gsrd_cooling.toml"
