@@ -77,6 +77,7 @@
 #include "engine/core/world.hpp"
 #include "engine/run/run_control.hpp"
 #include "systems/dem/contact_forces.hpp"
+#include "systems/dem/dem_domain_gather.hpp"
 #include "systems/dem/dem_energy.hpp"
 #include "systems/dem/dem_watchdog.hpp"
 #include "systems/dem/neighbour_list.hpp"
@@ -91,12 +92,6 @@ inline const SystemDescription dem_domain_step_description{
     "dem_domain_step",
     "the soft-sphere step over MPI ranks: slabs of neighbour-list layers along z, copies of the edge layers, "
     "migration at list builds"};
-
-// Each sphere's index in the whole system at the last list build (exact in
-// a double below 2^53): the order of a cell's spheres at the next build.
-struct WholeIndex : Column<double> {
-  static constexpr const char* key = "dem_whole_index";
-};
 
 // When the slabs are rebalanced: at the start and at the first list build
 // after every `every_steps` steps (0: never), where the busiest rank's load
@@ -176,7 +171,7 @@ class DemDomainStep : public DemDomainStepBase {
       book_energy_terms(View(whole), all);
     }
     if (host_current_ || !scattered_) return;
-    times_.timed(9, [&] { gather_into(whole); });
+    times_.timed(9, [&] { gather_whole(ranks_, local_, below_, owned_, grid_, whole); });
     host_current_ = true;
   }
 
@@ -188,37 +183,6 @@ class DemDomainStep : public DemDomainStepBase {
   // them, then its pairs' springs (partner id and shear each).
   std::size_t fixed_width() const {
     return 10 + (images_ ? 3 : 0) + (rotating_ ? 3 + 3 * walls_ : 0);
-  }
-
-  // A World's columns, looked up once per pass rather than per sphere; the
-  // optional ones null where the run has none.
-  struct Columns {
-    Vec<3>* x = nullptr;
-    Vec<3>* v = nullptr;
-    Vec<3>* f = nullptr;
-    std::uint32_t* id = nullptr;
-    double* mass = nullptr;
-    double* radius = nullptr;
-    double* index = nullptr;  // the local World's alone
-    typename ImageCount<3>::value_type* image = nullptr;
-    Vec<3>* omega = nullptr;
-    Vec<3>* torque = nullptr;
-  };
-  Columns columns_of(World& world) const {
-    Columns c;
-    c.x = world.component<Position<3>>().data();
-    c.v = world.component<Velocity<3>>().data();
-    c.f = world.component<Force<3>>().data();
-    c.id = world.component<ParticleId>().data();
-    c.mass = world.component<Mass>().data();
-    c.radius = world.component<Radius>().data();
-    if (&world == &local_) c.index = world.component<WholeIndex>().data();
-    if (images_) c.image = world.component<ImageCount<3>>().data();
-    if (rotating_) {
-      c.omega = world.component<AngularVelocity>().data();
-      c.torque = world.component<Torque>().data();
-    }
-    return c;
   }
 
   // ---- the start: this rank's part of the whole World -------------------
@@ -396,7 +360,7 @@ class DemDomainStep : public DemDomainStepBase {
   // The neighbours' copies of this rank's edge layers, moved on a step.
   void refresh_copies() {
     const std::size_t width = rotating_ ? 9 : 6;
-    const Columns c = columns_of(local_);
+    const DomainColumns c = columns_of(local_, images_, rotating_, true);
     const auto pack_moved = [&](std::size_t from, std::size_t count) {
       std::vector<double> out;
       out.reserve(count * width);
@@ -530,7 +494,7 @@ class DemDomainStep : public DemDomainStepBase {
   // the springs of the pairs it is the first of (partner id and shear each),
   // from the last build's lists where the rank owned it, else as they came
   // with it.
-  void pack(const Columns& c, std::size_t i, std::vector<double>& out) const {
+  void pack(const DomainColumns& c, std::size_t i, std::vector<double>& out) const {
     out.push_back(c.index[i]);
     out.push_back(c.id[i]);
     out.push_back(c.mass[i]);
@@ -586,7 +550,7 @@ class DemDomainStep : public DemDomainStepBase {
     auto& nl = local_.resource<NeighbourList<3>>();
     if (rotating_) nl.wall_shear.resize(local_.size() * walls_);
     was_.resize(local_.size(), none);
-    const Columns c = columns_of(local_);
+    const DomainColumns c = columns_of(local_, images_, rotating_, true);
     for (std::size_t k = 0; k < starts.size(); ++k) {
       const double* d = in.data() + starts[k];
       const std::size_t i = first + k;
@@ -691,7 +655,7 @@ class DemDomainStep : public DemDomainStepBase {
     std::vector<double> down, up;
     std::vector<std::uint32_t> staying;
     staying.reserve(owned_);
-    const Columns c = columns_of(local_);
+    const DomainColumns c = columns_of(local_, images_, rotating_, true);
     for (std::size_t i = below_; i < below_ + owned_; ++i) {
       const int owner = slab_.owner(static_cast<double>(layer[i]));
       if (owner == slab_.rank) staying.push_back(static_cast<std::uint32_t>(i));
@@ -753,7 +717,7 @@ class DemDomainStep : public DemDomainStepBase {
     count_scan_fill(cell.data(), count, cells, start.data(), members.data(), scratch);
     for (auto& m : members) m = own[m];
     std::vector<double> down, up;
-    const Columns c = columns_of(local_);
+    const DomainColumns c = columns_of(local_, images_, rotating_, true);
     if (has_below())
       for (std::uint32_t k = start[0]; k < start[stride]; ++k) pack(c, members[k], down);
     if (has_above())
@@ -861,114 +825,6 @@ class DemDomainStep : public DemDomainStepBase {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nl.list.size(), 4096), [&](const auto& r) {
       for (std::size_t p = r.begin(); p != r.end(); ++p) nl.shear[p] = carried_spring(nl.first[p], nl.list[p], find);
     });
-  }
-
-  // ---- the whole World ---------------------------------------------------
-
-  void gather_into(World& whole) {
-    const auto& nl = local_.resource<NeighbourList<3>>();
-    const Columns c = columns_of(local_);
-    // Per sphere: position, velocity, force, reference, id, mass, radius,
-    // images, spin and torque, wall springs, its pair count.
-    const std::size_t width = 16 + (images_ ? 3 : 0) + (rotating_ ? 6 + 3 * walls_ : 0);
-    std::vector<double> spheres, pairs;
-    spheres.reserve(owned_ * width);
-    for (std::size_t i = below_; i < below_ + owned_; ++i) {
-      const auto add = [&](const auto& vec) { spheres.insert(spheres.end(), vec.data(), vec.data() + 3); };
-      add(c.x[i]);
-      add(c.v[i]);
-      add(c.f[i]);
-      add(nl.reference[i]);
-      spheres.push_back(c.id[i]);
-      spheres.push_back(c.mass[i]);
-      spheres.push_back(c.radius[i]);
-      if (c.image)
-        for (int a = 0; a < 3; ++a) spheres.push_back(c.image[i][a]);
-      if (c.omega) {
-        add(c.omega[i]);
-        add(c.torque[i]);
-        for (std::size_t w = 0; w < walls_; ++w) add(nl.wall_shear[i * walls_ + w]);
-      }
-      const auto [begin, end] = nl.pairs_of(i);
-      spheres.push_back(end - begin);
-      for (std::uint32_t p = begin; p < end; ++p) {
-        pairs.push_back(c.index[nl.list[p]]);
-        if (nl.keeps_history) pairs.insert(pairs.end(), nl.shear[p].begin(), nl.shear[p].end());
-      }
-    }
-    const std::vector<double> all = ranks_.gather_all(spheres);
-    const std::vector<double> all_pairs = ranks_.gather_all(pairs);
-    const std::size_t n = all.size() / width;
-    follow_order(whole, all, width, 12);
-    whole.resize(n);
-    auto& whole_nl = whole.resource<NeighbourList<3>>();
-    whole_nl.reference.resize(n);
-    whole_nl.order.resize(n);
-    std::iota(whole_nl.order.begin(), whole_nl.order.end(), 0u);
-    whole_nl.offsets.assign(n + 1, 0);
-    whole_nl.wall_shear.assign(whole_nl.keeps_history ? n * walls_ : 0, Shear{});
-    std::vector<std::uint32_t> per_layer(static_cast<std::size_t>(grid_.cells(2)) + 1, 0);
-    const Columns w = columns_of(whole);
-    for (std::size_t i = 0; i < n; ++i) {
-      const double* d = all.data() + i * width;
-      w.x[i] = Vec<3>(d[0], d[1], d[2]);
-      w.v[i] = Vec<3>(d[3], d[4], d[5]);
-      w.f[i] = Vec<3>(d[6], d[7], d[8]);
-      whole_nl.reference[i] = Vec<3>(d[9], d[10], d[11]);
-      w.id[i] = static_cast<std::uint32_t>(d[12]);
-      w.mass[i] = d[13];
-      w.radius[i] = d[14];
-      std::size_t k = 15;
-      if (w.image) {
-        for (int a = 0; a < 3; ++a) w.image[i][a] = static_cast<std::int32_t>(d[k + static_cast<std::size_t>(a)]);
-        k += 3;
-      }
-      if (w.omega) {
-        w.omega[i] = Vec<3>(d[k], d[k + 1], d[k + 2]);
-        w.torque[i] = Vec<3>(d[k + 3], d[k + 4], d[k + 5]);
-        k += 6;
-        for (std::size_t wall = 0; wall < walls_; ++wall, k += 3)
-          whole_nl.wall_shear[i * walls_ + wall] = {d[k], d[k + 1], d[k + 2]};
-      }
-      whole_nl.offsets[i + 1] = whole_nl.offsets[i] + static_cast<std::uint32_t>(d[k]);
-      ++per_layer[layer_of(whole_nl.reference[i]) + 1];
-    }
-    const std::size_t stride = whole_nl.keeps_history ? 4 : 1;
-    whole_nl.list.resize(all_pairs.size() / stride);
-    whole_nl.shear.assign(whole_nl.keeps_history ? whole_nl.list.size() : 0, Shear{});
-    for (std::size_t p = 0; p < whole_nl.list.size(); ++p) {
-      whole_nl.list[p] = static_cast<std::uint32_t>(all_pairs[p * stride]);
-      if (whole_nl.keeps_history)
-        whole_nl.shear[p] = {all_pairs[p * stride + 1], all_pairs[p * stride + 2], all_pairs[p * stride + 3]};
-    }
-    for (std::size_t s = 1; s < per_layer.size(); ++s) per_layer[s] += per_layer[s - 1];
-    whole_nl.slabs = per_layer;
-    whole_nl.periodic_slabs = false;
-    whole_nl.builds = nl.builds;
-    whole_nl.derive();
-  }
-
-  // The whole World takes the order of the gathered spheres as a
-  // permutation (World::permute), as the lists' builds reorder it on one
-  // rank, so that what follows each sphere by index (an observer's
-  // per-sphere state) follows it here too. `id_at`: the id's place in a
-  // gathered sphere's `width` values.
-  static void follow_order(World& whole, const std::vector<double>& all, std::size_t width, std::size_t id_at) {
-    const auto& ids = whole.component<ParticleId>().values;
-    const std::size_t n = all.size() / width;
-    if (ids.size() != n) return;
-    std::unordered_map<std::uint32_t, std::uint32_t> was;
-    was.reserve(n);
-    for (std::size_t i = 0; i < n; ++i) was[ids[i]] = static_cast<std::uint32_t>(i);
-    std::vector<std::uint32_t> order(n);
-    bool moved = false;
-    for (std::size_t k = 0; k < n; ++k) {
-      const auto found = was.find(static_cast<std::uint32_t>(all[k * width + id_at]));
-      if (found == was.end()) return;
-      order[k] = found->second;
-      moved |= order[k] != k;
-    }
-    if (moved) whole.permute(order);
   }
 
   const Communicator& ranks_;
