@@ -13,11 +13,7 @@
 #  - what the step does not offer, and more ranks than layers, are refused
 #    once, on rank 0, with exit status 2.
 set -u
-granflow="$1"
-mpiexec="$2"
-scenarios="$3"
-source "$(dirname "$0")/common.sh"
-source "$(dirname "$0")/ranks_common.sh"
+source "$(dirname "$0")/ranks_common.sh"  # GRANFLOW MPIEXEC SCENARIOS
 
 bed="$scenarios/shaken_bed.toml"
 deep="$scenarios/vibrated_bed.toml"

@@ -1,5 +1,9 @@
-# What the tests of one system over MPI ranks share (sourced after
-# common.sh, with $granflow and $mpiexec set).
+# What the tests of one system over MPI ranks share, sourced with the
+# test's arguments: the granflow program, mpiexec and the scenarios folder.
+granflow="$1"
+mpiexec="$2"
+scenarios="$3"
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 # ranks K ARGS...: granflow on K ranks, oversubscribed on a small machine.

@@ -30,11 +30,7 @@
 #    exit 3 and one diagnosis;
 #  - what is not distributed is refused once, on rank 0, with exit status 2.
 set -u
-granflow="$1"
-mpiexec="$2"
-scenarios="$3"
-source "$(dirname "$0")/common.sh"
-source "$(dirname "$0")/ranks_common.sh"
+source "$(dirname "$0")/ranks_common.sh"  # GRANFLOW MPIEXEC SCENARIOS
 
 cooling="$scenarios/gsrd_cooling.toml"
 common=(--set srd.restitution=0.98 --set srd.rotation_angle=10 --set output.positions=all
