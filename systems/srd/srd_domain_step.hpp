@@ -63,6 +63,7 @@
 #include "components/position.hpp"
 #include "components/velocity.hpp"
 #include "engine/core/communicator.hpp"
+#include "engine/core/phase_times.hpp"
 #include "engine/core/profiler.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
@@ -240,28 +241,9 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   // (rank 0's reach the profile), and every rank's as rows
   // `srd_domain_step.rank<r>.<part>`, so that a slow rank and the others'
   // wait for it show. Collective: every rank writes its results.
-  std::vector<ProfileEntry> device_profile() const override {
-    std::vector<ProfileEntry> out;
-    for (std::size_t k = 0; k < phases; ++k)
-      out.push_back({std::string("srd_domain_step.") + phase_names[k], phase_calls_[k], phase_seconds_[k]});
-    std::vector<double> mine(2 * phases);
-    for (std::size_t k = 0; k < phases; ++k) {
-      mine[2 * k] = static_cast<double>(phase_calls_[k]);
-      mine[2 * k + 1] = phase_seconds_[k];
-    }
-    const std::vector<double> all = ranks_.gather_all(mine);
-    for (std::size_t r = 0; r * mine.size() < all.size(); ++r)
-      for (std::size_t k = 0; k < phases; ++k)
-        out.push_back({fmt::format("srd_domain_step.rank{}.{}", r, phase_names[k]),
-                       static_cast<std::uint64_t>(all[r * mine.size() + 2 * k]), all[r * mine.size() + 2 * k + 1]});
-    return out;
-  }
+  std::vector<ProfileEntry> device_profile() const override { return times_.entries("srd_domain_step", ranks_); }
 
  private:
-  static constexpr std::size_t phases = 12;
-  static constexpr const char* phase_names[phases] = {"streaming",     "migration", "ghost_exchange", "binning",
-                                                      "reduction",     "rotation",  "ghost_removal",  "gather",
-                                                      "communication", "agreement", "balance_check",  "rebalance"};
   // Time in MPI calls, waiting for the other ranks included: the exchanges
   // with the neighbours and the per-step sums (inside the parts above);
   // apart, the sum each round of the migration ends with, which agrees on
@@ -276,10 +258,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   }
   template <class Work>
   void timed(std::size_t phase, Work&& work) {
-    const auto start = std::chrono::steady_clock::now();
-    work();
-    phase_seconds_[phase] += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    ++phase_calls_[phase];
+    times_.timed(phase, std::forward<Work>(work));
   }
 
   std::size_t width() const { return 2 * D + (ids_ ? 1 : 0) + (images_ ? D : 0); }
@@ -654,13 +633,12 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     if (before <= balance_.threshold) return;
     const auto bounds = SlabDomain::balanced(per_layer, slab_.ranks);
     if (bounds == slab_.bounds) return;
-    const auto start = std::chrono::steady_clock::now();
     spdlog::info("step {}: the slabs rebalanced, the busiest rank's load from {:.3f} to {:.3f} times the mean",
                  local_.resource<Clock>().step, before, busiest(bounds));
-    set_bounds(bounds);
-    redistribute();
-    phase_seconds_[11] += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    ++phase_calls_[11];
+    times_.timed(11, [&] {
+      set_bounds(bounds);
+      redistribute();
+    });
   }
 
   // Every particle to the owner of its slab, through the migration's rounds,
@@ -821,8 +799,8 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     double work = 0.0;  // by the walls, per unit mass
   };
   std::vector<SortedOut> sorted_out_;
-  std::array<double, phases> phase_seconds_{};
-  std::array<std::uint64_t, phases> phase_calls_{};
+  PhaseTimes<12> times_{{"streaming", "migration", "ghost_exchange", "binning", "reduction", "rotation",
+                         "ghost_removal", "gather", "communication", "agreement", "balance_check", "rebalance"}};
 };
 
 }  // namespace granflow::srd
