@@ -190,4 +190,8 @@ void add_srd_fields(Run& run, std::array<std::int32_t, D> cells) {
   run.at_finish([&writer](H5mdFile& file, const RunOutcome&) { writer.write_xdmf(file); });
 }
 
+// Compiled once for both dimensions, in srd_fields.cpp, for every scenario that writes fields.
+extern template void add_srd_fields<2>(Run&, std::array<std::int32_t, 2>);
+extern template void add_srd_fields<3>(Run&, std::array<std::int32_t, 3>);
+
 }  // namespace granflow::srd

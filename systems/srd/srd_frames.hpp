@@ -47,4 +47,8 @@ void add_srd_frames(Run& run, const TriggerPtr& outputs) {
   });
 }
 
+// Compiled once for both dimensions, in srd_frames.cpp, for every scenario that writes frames.
+extern template void add_srd_frames<2>(Run&, const TriggerPtr&);
+extern template void add_srd_frames<3>(Run&, const TriggerPtr&);
+
 }  // namespace granflow::srd

@@ -382,4 +382,9 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = 
   run.rate("particle-steps/s", [&run, particles] { return particles * static_cast<double>(run.clock().step); });
 }
 
+// Compiled once for both dimensions, in srd_setup.cpp: every SRD scenario
+// builds its fluid here, and each would otherwise compile every step again.
+extern template void add_srd_fluid<2>(Run&, std::vector<Wall>, BodyForce<2>, bool);
+extern template void add_srd_fluid<3>(Run&, std::vector<Wall>, BodyForce<3>, bool);
+
 }  // namespace granflow::srd

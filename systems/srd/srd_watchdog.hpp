@@ -111,4 +111,8 @@ void warn_when_collapsed(Run& run, double n0) {
   });
 }
 
+// Compiled once for both dimensions, in srd_watchdog.cpp, for every SRD scenario.
+extern template void observe_state<2>(Run&, const TriggerPtr&);
+extern template void observe_state<3>(Run&, const TriggerPtr&);
+
 }  // namespace granflow::srd
