@@ -10,6 +10,10 @@
 #    history crosses the slab boundaries) and particle frames;
 #  - a run stopped on 2 ranks and extended on 3, and one stopped on one
 #    process and extended on 2, equal the uninterrupted one-rank run;
+#  - SIGINT to mpirun stops every rank at one step with one checkpoint and
+#    no result file, and 3 ranks finish the run; a rank killed outright ends
+#    the job, and its last periodic checkpoint resumes it: both equal the
+#    uninterrupted one-rank run;
 #  - what the step does not offer, and more ranks than layers, are refused
 #    once, on rank 0, with exit status 2.
 set -u
@@ -58,6 +62,18 @@ agree "$work/deep_whole.h5" "$work/deep_2to3.h5" 0
 "$granflow" run "$deep" "${whole[@]}" --set run.t_stop=0.4 -q -o "$work/deep_1to2.h5" || fail "one-rank first part exited with $?"
 ranks 2 run "$deep" "${whole[@]}" -q -o "$work/deep_1to2.h5" --resume || fail "2-rank extension exited with $?"
 agree "$work/deep_whole.h5" "$work/deep_1to2.h5" 0
+
+# SIGINT on 2 ranks, finished on 3; a rank killed outright, resumed from
+# the last periodic checkpoint: both give the one-rank result bit for bit.
+long_bed=(--set run.t_stop=20 --set output.average_after=10 -q)
+"$granflow" run "$bed" "${long_bed[@]}" -o "$work/bed_whole.h5" || fail "one-rank reference exited with $?"
+interrupted 2 "$work/bed_cut.h5" run "$bed" "${long_bed[@]}"
+ranks 3 run "$bed" "${long_bed[@]}" -o "$work/bed_cut.h5" --resume || fail "3-rank resume of the interrupted run exited with $?"
+agree "$work/bed_whole.h5" "$work/bed_cut.h5" 0
+killed 2 "$work/bed_killed.h5" run "$bed" "${long_bed[@]}" --set output.checkpoint_interval=1
+ranks 2 run "$bed" "${long_bed[@]}" --set output.checkpoint_interval=1 -o "$work/bed_killed.h5" --resume \
+  || fail "--resume after the killed rank exited with $?"
+agree "$work/bed_whole.h5" "$work/bed_killed.h5" 0 parameters/toml  # which names the checkpoint interval
 
 # Refused, once.
 refused 'run.integrator = "position_verlet" (velocity_verlet is) is not offered' 2 run "$bed" "${shaken[@]}" \

@@ -47,3 +47,43 @@ print(f"ok: {sys.argv[2]} agrees with {sys.argv[1]} in {len(paths)} datasets "
       + (f"(largest relative difference {worst:.2g})" if tolerance > 0 else "(bit for bit)"))
 PY
 }
+
+# interrupted K OUT ARGS...: `granflow ARGS -o OUT` on K ranks, SIGINT to the
+# launcher two seconds into the run: every rank stops at one step, rank 0
+# writes the checkpoint and says so once, and no result file is left. The
+# launcher starts with SIGINT handled as from a terminal: a script's
+# background job inherits it ignored (or blocked), and mpirun keeps it so.
+interrupted() {
+  local k="$1" out="$2"; shift 2
+  /usr/bin/python3 -c 'import os, signal, sys
+signal.signal(signal.SIGINT, signal.SIG_DFL)
+signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+os.execvp(sys.argv[1], sys.argv[1:])' \
+    "$mpiexec" -np "$k" --oversubscribe --bind-to none "$granflow" "$@" -o "$out" > "$out.log" 2>&1 &
+  local launcher=$!
+  for _ in $(seq 1 1500); do [[ -e "$out.partial" ]] && break; sleep 0.02; done
+  sleep 2
+  kill -INT "$launcher"
+  wait "$launcher"; local status=$?
+  if [[ $status -ne 0 && -e "$out.checkpoint" && ! -e "$out" && ! -e "$out.partial" ]] \
+     && [[ $(grep -c "interrupted (signal" "$out.log") -eq 1 ]]; then
+    echo "ok: SIGINT stopped the $k ranks with one checkpoint and one message (mpirun exit $status)"
+  else
+    fail "SIGINT: exit $status, files: $(ls "$(dirname "$out")" | tr '\n' ' '), log: $(cat "$out.log")"
+  fi
+}
+
+# killed K OUT ARGS...: `granflow ARGS -o OUT` on K ranks (ARGS with a
+# periodic checkpoint), one rank killed outright once the first checkpoint
+# is written: the job ends with a failure and leaves the checkpoint.
+killed() {
+  local k="$1" out="$2"; shift 2
+  ranks "$k" "$@" -o "$out" > "$out.log" 2>&1 &
+  local launcher=$!
+  for _ in $(seq 1 1500); do [[ -e "$out.checkpoint" ]] && break; sleep 0.02; done
+  local victim; victim=$(pgrep -n -f "^$granflow .*-o $out")
+  [[ -n "$victim" ]] && kill -9 "$victim"
+  wait "$launcher"; local status=$?
+  if [[ $status -ne 0 && -e "$out.checkpoint" && -n "$victim" ]]; then echo "ok: a killed rank ended the job (mpirun exit $status)"
+  else fail "killed rank: exit $status, victim '${victim}', files: $(ls "$(dirname "$out")" | tr '\n' ' ')"; fi
+}
