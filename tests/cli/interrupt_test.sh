@@ -79,15 +79,15 @@ DELAY=1.5 check langevin langevin_msd.toml "" \
   --set run.runs=1 --set run.t_stop=20 --set system.count=200000 --set msd.time_average_particles=200 \
   --set output.positions=first_last
 # Soft spheres and SRD: every dataset, particle frames and fields included.
-DELAY=2 check shaken shaken_bed.toml "" \
-  --set run.t_stop=60 --set output.average_after=10 --set contact.friction=0.5 --set output.positions=all
+DELAY=1.5 check shaken shaken_bed.toml "" \
+  --set run.t_stop=25 --set output.average_after=10 --set contact.friction=0.5 --set output.positions=all
 DELAY=1.5 check vibrated vibrated_bed.toml "" --set system.count=4000 --set run.t_stop=20 --set output.interval=0.5 \
   --set output.average_after=1 --set output.positions=all
 DELAY=1 check gsrd_cooling gsrd_cooling.toml "" --set 'system.cells=[16,16,16]' --set run.steps=3000 \
   --set fields.every_steps=100 --set output.positions=first_last
 # An ensemble of three (two cores): interrupted while its third run goes on,
 # the two finished ones come back from the checkpoint, their units with them.
-UNTIL_CHECKPOINT=1 check gsrd_ensemble gsrd_cooling.toml "" --set 'system.cells=[16,16,16]' --set run.steps=3000 \
+UNTIL_CHECKPOINT=1 check gsrd_ensemble gsrd_cooling.toml "" --set 'system.cells=[16,16,16]' --set run.steps=1500 \
   --set run.runs=3 --threads 2
 /usr/bin/python3 - "$work/gsrd_ensemble-whole.h5" "$work/gsrd_ensemble-cut.h5" <<'PY' || failures=$((failures + 1))
 import sys, h5py
@@ -96,7 +96,7 @@ units = lambda f: {n: f[f"observables/{n}/value"].attrs.get("unit") for n in f["
 assert units(a) == units(b) and units(a)["temperature_stderr"] == units(a)["temperature"], (units(a), units(b))
 print("ok: the resumed ensemble keeps every series' unit")
 PY
-DELAY=1 check gsrd_shaken gsrd_shaken.toml "" --set 'system.cells=[8,8,40]' --set run.steps=2500 \
+DELAY=1 check gsrd_shaken gsrd_shaken.toml "" --set 'system.cells=[8,8,40]' --set run.steps=1200 \
   --set fields.every_steps=100 --set fields.window=20 --set output.positions=all
 DELAY=1 check srd_viscosity srd_viscosity.toml "" --set run.steps=12000 --set fields.every_steps=500 \
   --set output.positions=first_last
