@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <climits>
 #include <exception>
+#include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include "engine/app/mpi_session.hpp"
 #include "engine/core/input_error.hpp"
@@ -28,33 +30,114 @@ class MpiCommunicator final : public Communicator {
 
   Received exchange_with_neighbours(int below, const std::vector<double>& down, int above,
                                     const std::vector<double>& up, int channel) const override {
-    // Sizes first, then the values: a receiver cannot know how many particles cross.
-    // Tags tell the downward from the upward messages apart where below == above.
+    ExchangeRequests requests;
+    post(requests, below, down, above, up, channel);
+    Received received = complete(requests, below, above, channel);
+    requests.wait_sent();
+    return received;
+  }
+  void start_exchange(Exchange& e) const override {
+    auto requests = std::make_shared<ExchangeRequests>();
+    post(*requests, e.below, e.down, e.above, e.up, e.channel);
+    e.in_flight = std::move(requests);
+  }
+  Received finish_exchange(Exchange& e) const override {
+    return complete(*static_cast<ExchangeRequests*>(e.in_flight.get()), e.below, e.above, e.channel);
+  }
+  void wait_sent(Exchange& e) const override {
+    if (!e.in_flight) return;
+    static_cast<ExchangeRequests*>(e.in_flight.get())->wait_sent();
+    e.in_flight.reset();
+  }
+
+  // An exchange's sizes and values go out at once; a receiver learns from
+  // the sizes how much to receive. Tags tell the downward from the upward
+  // messages apart where below == above. Open MPI's shared-memory transport
+  // moves a large message when the receiver posts for it, so a sender that
+  // works between post and complete need not be in an MPI call meanwhile.
+  struct ExchangeRequests {
+    long long send_down = 0, send_up = 0, from_above = 0, from_below = 0;
+    MPI_Request sizes[4], sends[2] = {MPI_REQUEST_NULL, MPI_REQUEST_NULL};
+    ExchangeRequests() = default;
+    ExchangeRequests(const ExchangeRequests&) = delete;
+    ExchangeRequests& operator=(const ExchangeRequests&) = delete;
+    void wait_sent() { MPI_Waitall(2, sends, MPI_STATUSES_IGNORE); }
+    // A run that ends between finish and wait_sent: the receivers have the
+    // messages by then; the requests are let go, not waited for.
+    ~ExchangeRequests() {
+      for (MPI_Request& send : sends)
+        if (send != MPI_REQUEST_NULL) MPI_Request_free(&send);
+    }
+  };
+  static void post(ExchangeRequests& r, int below, const std::vector<double>& down, int above,
+                   const std::vector<double>& up, int channel) {
     const int downward = 4 * channel, upward = 4 * channel + 1;
-    long long send_down = static_cast<long long>(down.size()), send_up = static_cast<long long>(up.size());
-    long long from_above = 0, from_below = 0;
-    MPI_Request sizes[4];
-    MPI_Irecv(&from_above, 1, MPI_LONG_LONG, above, downward, MPI_COMM_WORLD, &sizes[0]);
-    MPI_Irecv(&from_below, 1, MPI_LONG_LONG, below, upward, MPI_COMM_WORLD, &sizes[1]);
-    MPI_Isend(&send_down, 1, MPI_LONG_LONG, below, downward, MPI_COMM_WORLD, &sizes[2]);
-    MPI_Isend(&send_up, 1, MPI_LONG_LONG, above, upward, MPI_COMM_WORLD, &sizes[3]);
-    MPI_Waitall(4, sizes, MPI_STATUSES_IGNORE);
-    if (std::max({send_down, send_up, from_above, from_below}) > INT_MAX)
+    r.send_down = static_cast<long long>(down.size());
+    r.send_up = static_cast<long long>(up.size());
+    refuse_beyond_int(std::max(r.send_down, r.send_up));
+    MPI_Irecv(&r.from_above, 1, MPI_LONG_LONG, above, downward, MPI_COMM_WORLD, &r.sizes[0]);
+    MPI_Irecv(&r.from_below, 1, MPI_LONG_LONG, below, upward, MPI_COMM_WORLD, &r.sizes[1]);
+    MPI_Isend(&r.send_down, 1, MPI_LONG_LONG, below, downward, MPI_COMM_WORLD, &r.sizes[2]);
+    MPI_Isend(&r.send_up, 1, MPI_LONG_LONG, above, upward, MPI_COMM_WORLD, &r.sizes[3]);
+    MPI_Isend(down.data(), static_cast<int>(r.send_down), MPI_DOUBLE, below, downward + 2, MPI_COMM_WORLD,
+              &r.sends[0]);
+    MPI_Isend(up.data(), static_cast<int>(r.send_up), MPI_DOUBLE, above, upward + 2, MPI_COMM_WORLD, &r.sends[1]);
+  }
+  static Received complete(ExchangeRequests& r, int below, int above, int channel) {
+    const int downward = 4 * channel, upward = 4 * channel + 1;
+    MPI_Waitall(4, r.sizes, MPI_STATUSES_IGNORE);
+    refuse_beyond_int(std::max(r.from_above, r.from_below));
+    Received received;
+    received.from_above.resize(static_cast<std::size_t>(r.from_above));
+    received.from_below.resize(static_cast<std::size_t>(r.from_below));
+    MPI_Request values[2];
+    MPI_Irecv(received.from_above.data(), static_cast<int>(r.from_above), MPI_DOUBLE, above, downward + 2,
+              MPI_COMM_WORLD, &values[0]);
+    MPI_Irecv(received.from_below.data(), static_cast<int>(r.from_below), MPI_DOUBLE, below, upward + 2,
+              MPI_COMM_WORLD, &values[1]);
+    MPI_Waitall(2, values, MPI_STATUSES_IGNORE);
+    return received;
+  }
+  static void refuse_beyond_int(long long values) {
+    if (values > INT_MAX)
       throw std::runtime_error(fmt::format("more than {} values to exchange between two ranks in one message; use "
                                            "more ranks",
                                            INT_MAX));
-    Received received;
-    received.from_above.resize(static_cast<std::size_t>(from_above));
-    received.from_below.resize(static_cast<std::size_t>(from_below));
-    MPI_Request values[4];
-    MPI_Irecv(received.from_above.data(), static_cast<int>(from_above), MPI_DOUBLE, above, downward + 2,
-              MPI_COMM_WORLD, &values[0]);
-    MPI_Irecv(received.from_below.data(), static_cast<int>(from_below), MPI_DOUBLE, below, upward + 2,
-              MPI_COMM_WORLD, &values[1]);
-    MPI_Isend(down.data(), static_cast<int>(send_down), MPI_DOUBLE, below, downward + 2, MPI_COMM_WORLD, &values[2]);
-    MPI_Isend(up.data(), static_cast<int>(send_up), MPI_DOUBLE, above, upward + 2, MPI_COMM_WORLD, &values[3]);
-    MPI_Waitall(4, values, MPI_STATUSES_IGNORE);
-    return received;
+  }
+
+  // A sum in two halves as point-to-point messages of one value to every
+  // other rank, not MPI_Iallreduce: Open MPI moves a nonblocking collective
+  // on only inside MPI calls, so a rank busy between start and finish would
+  // hold the others' finish until its own, while these small messages are
+  // delivered at once. K - 1 messages a rank: meant for the few neighbours
+  // of a slab step.
+  struct SumRequests {
+    long long mine = 0;
+    std::vector<long long> theirs;
+    std::vector<MPI_Request> requests;
+  };
+  static constexpr int sum_tag = 32000;
+  void start_sum(Sum& s) const override {
+    auto r = std::make_shared<SumRequests>();
+    r->mine = s.mine;
+    r->theirs.assign(static_cast<std::size_t>(size_), 0);
+    r->requests.assign(2 * static_cast<std::size_t>(size_), MPI_REQUEST_NULL);
+    for (int other = 0; other < size_; ++other) {
+      if (other == rank_) continue;
+      const auto k = static_cast<std::size_t>(other);
+      MPI_Irecv(&r->theirs[k], 1, MPI_LONG_LONG, other, sum_tag, MPI_COMM_WORLD, &r->requests[2 * k]);
+      MPI_Isend(&r->mine, 1, MPI_LONG_LONG, other, sum_tag, MPI_COMM_WORLD, &r->requests[2 * k + 1]);
+    }
+    s.in_flight = std::move(r);
+  }
+  std::int64_t finish_sum(Sum& s) const override {
+    auto& r = *static_cast<SumRequests*>(s.in_flight.get());
+    MPI_Waitall(static_cast<int>(r.requests.size()), r.requests.data(), MPI_STATUSES_IGNORE);
+    r.theirs[static_cast<std::size_t>(rank_)] = r.mine;
+    s.total = 0;
+    for (const long long value : r.theirs) s.total += value;
+    s.in_flight.reset();
+    return s.total;
   }
 
   std::vector<double> gather_all(const std::vector<double>& mine) const override {

@@ -12,6 +12,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace granflow {
@@ -31,11 +32,40 @@ class Communicator {
   // may be one rank). `channel` keeps separate exchanges apart.
   virtual Received exchange_with_neighbours(int below, const std::vector<double>& down, int above,
                                             const std::vector<double>& up, int channel) const = 0;
+  // exchange_with_neighbours in two halves, so that a rank works while the
+  // messages travel: start_exchange sends (`down` and `up` stay as they are
+  // until finish_exchange), finish_exchange returns what arrived. Where the
+  // ranks cannot overlap the two, start only keeps the messages and finish
+  // exchanges them.
+  struct Exchange {
+    int below = 0, above = 0, channel = 0;
+    std::vector<double> down, up;
+    std::shared_ptr<void> in_flight;  // the implementation's requests, between the halves
+  };
+  // finish_exchange waits only for what comes to this rank: the neighbours
+  // may still be reading what it sent (a shared-memory transport reads the
+  // sender's buffer in place) until they finish too. wait_sent waits for
+  // that; call it before `down` or `up` change, so that a rank waits for a
+  // late neighbour only there, a step later.
+  virtual void start_exchange(Exchange&) const {}
+  virtual Received finish_exchange(Exchange& e) const {
+    return exchange_with_neighbours(e.below, e.down, e.above, e.up, e.channel);
+  }
+  virtual void wait_sent(Exchange&) const {}
   // Every rank's `mine`, concatenated in rank order, on every rank.
   virtual std::vector<double> gather_all(const std::vector<double>& mine) const = 0;
   virtual std::int64_t sum(std::int64_t value) const = 0;
   // Rank 0's value on every rank.
   virtual bool from_first(bool value) const = 0;
+  // sum in two halves, as the exchange: started with this rank's value,
+  // read (and waited for) at finish_sum. Other collective calls may come
+  // between, in the same order on every rank.
+  struct Sum {
+    std::int64_t mine = 0, total = 0;
+    std::shared_ptr<void> in_flight;
+  };
+  virtual void start_sum(Sum&) const {}
+  virtual std::int64_t finish_sum(Sum& s) const { return sum(s.mine); }
 
   // The element-wise sum of every rank's `mine` (all of one length), added
   // in rank order: the same bits on every rank and for every run on this
@@ -57,10 +87,20 @@ class Communicator {
   // sum(count) (count < 2^40 on every rank), agreeing on the interrupt in
   // the same call: a step that sums something anyway needs no second one.
   std::int64_t sum_agreeing_on_interrupt(std::int64_t count) const {
-    constexpr std::int64_t flag = std::int64_t{1} << 40;
-    const std::int64_t total = sum(count + (interrupted_here() ? flag : 0));
-    agree_on_interrupt(total >= flag);
-    return total % flag;
+    const std::int64_t total = sum(count + (interrupted_here() ? interrupt_flag : 0));
+    agree_on_interrupt(total >= interrupt_flag);
+    return total % interrupt_flag;
+  }
+  // The same in two halves: a step that does its work between them waits
+  // for the slowest rank only where that one is later than the work.
+  void start_agreeing_on_interrupt(Sum& s, std::int64_t count) const {
+    s.mine = count + (interrupted_here() ? interrupt_flag : 0);
+    start_sum(s);
+  }
+  std::int64_t finish_agreeing_on_interrupt(Sum& s) const {
+    const std::int64_t total = finish_sum(s);
+    agree_on_interrupt(total >= interrupt_flag);
+    return total % interrupt_flag;
   }
   // For a step that agrees on the signal inside a collective call of its
   // own: this process's flag to send, then whether any rank's was set.
@@ -70,6 +110,7 @@ class Communicator {
   }
 
  private:
+  static constexpr std::int64_t interrupt_flag = std::int64_t{1} << 40;
   const std::atomic<bool>* local_interrupt_ = nullptr;
   mutable std::atomic<bool> agreed_interrupt_{false};
 };

@@ -33,6 +33,7 @@ class ColumnBase {
  public:
   virtual ~ColumnBase() = default;
   virtual void resize(std::size_t count) = 0;
+  virtual void reserve(std::size_t count) = 0;
   // new_values[k] = old_values[order[k]]
   virtual void permute(const std::vector<std::uint32_t>& order) = 0;
   virtual std::size_t bytes_per_entity() const = 0;
@@ -64,8 +65,14 @@ struct Column : ColumnBase {
   const T* data() const { return values.data(); }
 
   void resize(std::size_t count) override { values.resize(count); }
+  void reserve(std::size_t count) override { values.reserve(count); }
   void permute(const std::vector<std::uint32_t>& order) override {
-    std::vector<T> reordered(order.size());
+    // The room the column had stays: a column that grows again after a
+    // reordering (a step over ranks adds its neighbours' particles) then
+    // moves nothing.
+    std::vector<T> reordered;
+    reordered.reserve(values.capacity());
+    reordered.resize(order.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1u << 14), [&](const auto& range) {
       for (std::size_t k = range.begin(); k != range.end(); ++k) reordered[k] = values[order[k]];
     });
@@ -114,6 +121,11 @@ class World {
   void resize(std::size_t entity_count) {
     count_ = entity_count;
     for (auto& [type, entry] : components_) entry.column->resize(count_);
+  }
+  // Room for `entity_count` entities in every column, so that growing to
+  // it moves nothing (a permutation leaves the columns without room).
+  void reserve(std::size_t entity_count) {
+    for (auto& [type, entry] : components_) entry.column->reserve(entity_count);
   }
 
   template <class C>

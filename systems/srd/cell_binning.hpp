@@ -58,8 +58,10 @@ class SrdCellBinning : public SystemOf<Reads<Clock>, Writes<SrdCells<D>, EveryCo
     else assign(view.template read<Position<D>>(), cells);
   }
 
-  // The cell of every particle and the cells of every block.
-  static void assign(const Position<D>& position, SrdCells<D>& cells) {
+  // The cell of every particle and the cells of every block; from particle
+  // `first` on where those before it are assigned already (a step over
+  // ranks assigns its own particles while the neighbours' travel).
+  static void assign(const Position<D>& position, SrdCells<D>& cells, std::size_t first = 0) {
     const double* x = position.data()->data();
     const std::size_t n = position.size();
     cells.cell.resize(n);
@@ -67,7 +69,7 @@ class SrdCellBinning : public SystemOf<Reads<Clock>, Writes<SrdCells<D>, EveryCo
     std::uint32_t* const cell_column = cells.cell.data();
     std::int8_t* const image_column = cells.image.empty() ? nullptr : cells.image.data();
     const SrdCells<D>& grid = cells;
-    for_each_block(cells, n, [&](std::size_t begin, std::size_t end) {
+    for_each_block(cells, n, first / SrdCells<D>::block_size, [&](std::size_t begin, std::size_t end) {
       // Local copies: the int8 stores may alias anything the lambda refers to.
       std::array<double, D> shift = grid.shift, length = grid.length, origin = grid.origin;
       std::array<std::int32_t, D> count = grid.cells;
@@ -85,15 +87,15 @@ class SrdCellBinning : public SystemOf<Reads<Clock>, Writes<SrdCells<D>, EveryCo
   // assign, then the counting sort: `order` lists the particles cell by
   // cell in index order, `start` where each cell's list begins, and `count`
   // how many each cell holds.
-  // Runs fill(begin, end) over every block of particles in parallel, the
-  // block's cells being set in cells.cell by it; then records each block's
-  // range of cells.
+  // Runs fill(begin, end) over every block of particles from `first_block`
+  // on, in parallel, the block's cells being set in cells.cell by it; then
+  // records each block's range of cells.
   template <class Fill>
-  static void for_each_block(SrdCells<D>& cells, std::size_t n, Fill&& fill) {
+  static void for_each_block(SrdCells<D>& cells, std::size_t n, std::size_t first_block, Fill&& fill) {
     const std::size_t block = SrdCells<D>::block_size;
     cells.blocks.resize((n + block - 1) / block);
     const auto cell_count = static_cast<std::int64_t>(cells.cell_count());
-    tbb::parallel_for(std::size_t{0}, cells.blocks.size(), [&](std::size_t b) {
+    tbb::parallel_for(std::min(first_block, cells.blocks.size()), cells.blocks.size(), [&](std::size_t b) {
       const std::size_t begin = b * block, end = std::min(n, begin + block);
       fill(begin, end);
       const std::uint32_t* cell = cells.cell.data();
@@ -127,8 +129,13 @@ class SrdCellBinning : public SystemOf<Reads<Clock>, Writes<SrdCells<D>, EveryCo
     view.permute(cells.order);
     // The cells follow the particles, and the blocks the cells.
     const std::uint32_t* order = cells.order.data();
-    std::vector<std::uint32_t> cell(cells.cell.size());
-    std::vector<std::int8_t> image(cells.image.size());
+    // With the room the columns had, as World::permute keeps it.
+    std::vector<std::uint32_t> cell;
+    cell.reserve(cells.cell.capacity());
+    cell.resize(cells.cell.size());
+    std::vector<std::int8_t> image;
+    image.reserve(cells.image.capacity());
+    image.resize(cells.image.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cell.size(), 1u << 14), [&](const auto& range) {
       for (std::size_t k = range.begin(); k != range.end(); ++k) {
         cell[k] = cells.cell[order[k]];
@@ -137,7 +144,7 @@ class SrdCellBinning : public SystemOf<Reads<Clock>, Writes<SrdCells<D>, EveryCo
     });
     cells.cell.swap(cell);
     cells.image.swap(image);
-    for_each_block(cells, cells.cell.size(), [](std::size_t, std::size_t) {});
+    for_each_block(cells, cells.cell.size(), 0, [](std::size_t, std::size_t) {});
     std::iota(cells.order.begin(), cells.order.end(), 0u);
   }
 

@@ -185,10 +185,21 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     shear_ = local_.resource<SrdCells<D>>().shear;
     shift_.run(local_);  // first: it tells which particles are ghosts
     timed(0, [&] { stream_and_sort_out(start); });
-    timed(1, [&] { migrate(); });
+    // The first round of the migration travels while this rank assigns its
+    // own particles' cells (not on the steps that sort them all).
+    const auto step = static_cast<std::uint64_t>(local_.resource<Clock>().step);
+    const bool sorting = reorder_interval_ > 0 && step % reorder_interval_ == 0;
+    timed(1, [&] { start_migration(); });
+    const std::size_t assigned = sorting ? 0 : local_.size();
+    if (!sorting)
+      timed(3, [&] { SrdCellBinning<D>::assign(local_.component<Position<D>>(), local_.resource<SrdCells<D>>()); });
+    timed(1, [&] { finish_migration(); });
     const std::size_t owned = local_.size();
     timed(2, [&] { add_ghosts(); });
-    timed(3, [&] { binning_.run(local_); });
+    timed(3, [&] {
+      if (sorting) binning_.run(local_);
+      else SrdCellBinning<D>::assign(local_.component<Position<D>>(), local_.resource<SrdCells<D>>(), assigned);
+    });
     timed(4, [&] { SrdCellReduction<D>::reduce(local_, local_.resource<SrdCells<D>>()); });
     local_.resource<SrdCells<D>>().copies = local_.component<DomainGhost>().data();
     timed(5, [&] {
@@ -199,13 +210,19 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     fill_step_sums(view);
     // The ghosts were appended last: unless this step's reordering mixed
     // them in, dropping them is a truncation.
-    const auto step = static_cast<std::uint64_t>(local_.resource<Clock>().step);
     timed(6, [&] {
-      if (reorder_interval_ > 0 && step % reorder_interval_ == 0)
-        drop(local_.component<DomainGhost>().values, std::uint8_t{1});
-      else
-        local_.resize(owned);
+      if (sorting) drop(local_.component<DomainGhost>().values, std::uint8_t{1});
+      else local_.resize(owned);
+      // Room for the next step's ghosts and arrivals (a few per cent), kept
+      // through the sorts: else growing into them moves every column, on
+      // one rank while the other waits. A no-op once the room is there.
+      const std::size_t room = local_.size() + local_.size() / 16;
+      local_.reserve(room);
+      auto& cells = local_.resource<SrdCells<D>>();
+      cells.cell.reserve(room);
+      if (!cells.image.empty()) cells.image.reserve(room);
     });
+    finish_agreement();
     view.template write<Clock>() = local_.resource<Clock>();
     view.template write<SrdCells<D>>().shift = local_.resource<SrdCells<D>>().shift;
     view.template write<SrdCells<D>>().shear = local_.resource<SrdCells<D>>().shear;
@@ -473,63 +490,107 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   // particle it sends away into its own straddling cells (the receiver
   // cannot know it needs sending back), and an arrival that lands in the
   // straddling cells of the neighbour on the far side, or is only passing
-  // through, goes on in a further round, which every rank agrees on.
+  // through, goes on in a further round, which every rank agrees on. The
+  // rebalance migrates in one go; the step starts the first round, works,
+  // and then finishes it.
   void migrate() {
+    start_migration();
+    finish_migration();
+    finish_agreement();
+  }
+  void finish_agreement() {
+    if (!agreement_open_) return;
+    agreement_open_ = false;
+    agreeing([&] { ranks_.finish_agreeing_on_interrupt(agreement_); });
+  }
+  // Packs the first round, removes the leavers and sends (once the
+  // neighbours have read the last step's messages).
+  void start_migration() {
+    communicating([&] { ranks_.wait_sent(exchange_); });
     to_below_.clear();
     to_above_.clear();
     arrived_ghosts_.clear();
     kept_.clear();
-    std::vector<double> up, down;
-    std::vector<std::size_t> gone;
+    up_.clear();
+    down_.clear();
+    gone_.clear();
     {
       const Columns c = columns();
       for (const auto& lists : sorted_out_) {
         for (const std::size_t i : lists.below) pack(c, i, to_below_, slab_.rank == 0 ? length_ : 0.0);
         for (const std::size_t i : lists.above) pack(c, i, to_above_, slab_.rank == slab_.ranks - 1 ? -length_ : 0.0);
-        for (const std::size_t i : lists.leaving) send_away(c, i, up, down, gone);
+        for (const std::size_t i : lists.leaving) send_away(c, i, up_, down_, gone_);
       }
     }
+    remove(gone_);
+    gone_.clear();
+    exchange_.below = slab_.below();
+    exchange_.above = slab_.above();
+    exchange_.down = message(down_, to_below_);
+    exchange_.up = message(up_, to_above_);
+    communicating([&] { ranks_.start_exchange(exchange_); });
+  }
+  // Takes the first round's arrivals, then runs the further rounds. On two
+  // ranks there are none (what leaves one slab is the other's, and the
+  // sender kept its copies), so the agreement on the signal is only started
+  // here and finished at the end of the step: a rank then waits for the
+  // other only where that one is later than this rank's whole step.
+  void finish_migration() {
+    Communicator::Received arrived;
+    communicating([&] { arrived = ranks_.finish_exchange(exchange_); });
+    std::int64_t pending = take_round(arrived);
+    if (slab_.ranks == 2) {
+      ranks_.start_agreeing_on_interrupt(agreement_, pending);
+      agreement_open_ = true;
+      return;
+    }
     while (true) {
-      remove(gone);
-      gone.clear();
-      const std::size_t first = local_.size();
-      Communicator::Received arrived;
-      communicating([&] {
-        arrived = ranks_.exchange_with_neighbours(slab_.below(), message(down, to_below_), slab_.above(),
-                                                  message(up, to_above_), 0);
-      });
-      const std::size_t from_below = take_message(arrived.from_below);
-      take_message(arrived.from_above);
-      up.clear();
-      down.clear();
-      to_below_.clear();
-      to_above_.clear();
-      std::int64_t pending = 0;
-      const Columns c = columns();
-      for (std::size_t i = first; i < local_.size(); ++i) {
-        const double z = c.x[i][axis_];
-        if (!(z >= low_ && z < high_) && slab_.owner(z) != slab_.rank) {
-          send_away(c, i, up, down, gone);
-          ++pending;
-          continue;
-        }
-        // The neighbour it came from kept its own copy; on two ranks that
-        // is the only neighbour.
-        if (slab_.ranks == 2) continue;
-        if (i < first + from_below && z >= ghost_above_edge_) {
-          pack(c, i, to_above_, slab_.rank == slab_.ranks - 1 ? -length_ : 0.0);
-          ++pending;
-        }
-        if (i >= first + from_below && z < ghost_below_edge_) {
-          pack(c, i, to_below_, slab_.rank == 0 ? length_ : 0.0);
-          ++pending;
-        }
-      }
       // Once per round on every rank: the place to agree on a signal too.
       std::int64_t pending_anywhere = 0;
       agreeing([&] { pending_anywhere = ranks_.sum_agreeing_on_interrupt(pending); });
       if (pending_anywhere == 0) return;
+      remove(gone_);
+      gone_.clear();
+      communicating([&] {
+        arrived = ranks_.exchange_with_neighbours(slab_.below(), message(down_, to_below_), slab_.above(),
+                                                  message(up_, to_above_), 0);
+      });
+      pending = take_round(arrived);
     }
+  }
+  // A round's arrivals: the migrants become this rank's and the ghosts are
+  // set aside; those that go on are packed for the next round. Returns how
+  // many go on.
+  std::int64_t take_round(const Communicator::Received& arrived) {
+    const std::size_t first = local_.size();
+    const std::size_t from_below = take_message(arrived.from_below);
+    take_message(arrived.from_above);
+    up_.clear();
+    down_.clear();
+    to_below_.clear();
+    to_above_.clear();
+    std::int64_t pending = 0;
+    const Columns c = columns();
+    for (std::size_t i = first; i < local_.size(); ++i) {
+      const double z = c.x[i][axis_];
+      if (!(z >= low_ && z < high_) && slab_.owner(z) != slab_.rank) {
+        send_away(c, i, up_, down_, gone_);
+        ++pending;
+        continue;
+      }
+      // The neighbour it came from kept its own copy; on two ranks that
+      // is the only neighbour.
+      if (slab_.ranks == 2) continue;
+      if (i < first + from_below && z >= ghost_above_edge_) {
+        pack(c, i, to_above_, slab_.rank == slab_.ranks - 1 ? -length_ : 0.0);
+        ++pending;
+      }
+      if (i >= first + from_below && z < ghost_below_edge_) {
+        pack(c, i, to_below_, slab_.rank == 0 ? length_ : 0.0);
+        ++pending;
+      }
+    }
+    return pending;
   }
 
   // Particle i leaves towards its owner; a copy stays if it lies in this
@@ -790,6 +851,11 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   Shear shear_;  // this step's, for packing: read per particle, not looked up in local_ each time
   bool host_current_ = true;
   std::vector<double> to_below_, to_above_;  // this round's ghosts for the neighbours, packed
+  std::vector<double> up_, down_;            // this round's migrants, packed
+  std::vector<std::size_t> gone_;            // this round's leavers, to remove
+  Communicator::Exchange exchange_;          // the first round, in flight
+  Communicator::Sum agreement_;              // on two ranks: the signal, in flight until the step ends
+  bool agreement_open_ = false;
   std::vector<double> arrived_ghosts_, kept_;  // this step's ghosts: the neighbours' and this rank's copies
   // Per chunk of particles, from the streaming pass: those leaving the slab
   // and those the neighbour below / above needs as ghosts.
