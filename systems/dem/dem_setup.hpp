@@ -53,61 +53,7 @@ struct DemDefaults {
   std::string motion = "sine";
 };
 
-inline void declare_dem_keys(ConfigSchema& s, const DemDefaults& d) {
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  declare_frame_keys(s, "final");
-  s.integer("system.count", d.count, 1, 1000000, "number of spheres")
-      .real_array("system.box", d.box, 0.0, 1e9, 3, 3, "box edge lengths along x, y, z")
-      .real("particle.radius", 0.5, 0.0, inf, "sphere radius", true)
-      .real("particle.mass", 1.0, 0.0, inf, "sphere mass", true)
-      .choice("contact.model", "lsd", {"lsd", "hertz"},
-              "normal contact force: linear spring-dashpot or Hertz with Kuwabara-Kono damping")
-      .real("contact.stiffness", d.stiffness, 0.0, inf, "spring constant k (Hertz: of k delta^{3/2})", true)
-      .real("contact.restitution", d.restitution, 0.0, 1.0,
-            "restitution e of the linear spring-dashpot (sets its damping; > 0: at e = 0 the dashpot is critically "
-            "damped and the spheres never separate)", true)
-      .real("contact.hertz_damping", 0.0, 0.0, inf, "Hertz: the Kuwabara-Kono damping time A")
-      .real("contact.friction", 0.0, 0.0, inf, "Coulomb friction mu of the tangential spring (0: frictionless, no rotation)")
-      .real("contact.tangential_stiffness", 2.0 / 7.0, 0.0, inf, "tangential spring k_t / k_n (with friction)")
-      .real("contact.tangential_damping", 0.5, 0.0, inf, "tangential dashpot gamma_t / gamma_n (with friction)")
-      .real("shaking.amplitude", d.amplitude, 0.0, inf, "amplitude A of the floor's motion (shaking.motion)")
-      .real("shaking.frequency", d.frequency, 0.0, inf, "frequency f of the floor's motion")
-      .choice("shaking.motion", d.motion, {"sine", "wiggle"},
-              "the floor's motion: sine, A sin(2 pi f t) about its rest position; wiggle, A (1 - cos 2 pi f t) "
-              "above it, from rest (LAMMPS's fix wall/gran ... wiggle)")
-      .real_array("gravity.acceleration", {0.0, 0.0, -1.0}, -1e300, 1e300, 3, 3, "gravity, one entry per axis")
-      .real("neighbour.skin", 0.4, 0.0, inf, "Verlet skin, in sphere radii", true)
-      .boolean("neighbour.reorder", true, "put the spheres in cell order at each neighbour-list build")
-      .real("run.t_stop", d.t_stop, 0.0, inf, "simulated time to run", true)
-      .real("run.dt", 0.0, 0.0, inf,
-            "time step (0: a fiftieth of the shortest collision; checked against every contact, docs/dem.md)")
-      .choice("run.integrator", "velocity_verlet", {"velocity_verlet", "position_verlet"},
-              "velocity Verlet, or position Verlet with the backward-difference velocity")
-      .real("output.interval", d.output_interval, 0.0, inf, "time between outputs", true);
-  declare_slab_balance_keys(s, 100, 1.05, "two per sphere of its slab and one per listed pair, at the next list build");
-  ConfigSchema wall;
-  wall.choice("axis", "z", {"x", "y", "z"}, "the axis the wall is perpendicular to")
-      .real("position", 0.0, 0.0, inf, "its position along that axis (below the middle: spheres above it)")
-      .real("stiffness", 0.0, 0.0, inf, "its contact stiffness (0: contact.stiffness)")
-      .real("restitution", 0.0, 0.0, 1.0,
-            "its restitution (0: contact.restitution; as for pairs, e = 0 itself is no spring-dashpot: the spheres "
-            "would never leave the wall)")
-      .real("amplitude", 0.0, 0.0, inf, "amplitude of its motion along its normal")
-      .real("frequency", 0.0, 0.0, inf, "frequency of that motion")
-      .choice("motion", "sine", {"sine", "wiggle"},
-              "sine: position + A sin(2 pi f t); wiggle: position + A (1 - cos 2 pi f t), from rest (LAMMPS's wiggle)");
-  wall.unit("position", unit::length).unit("stiffness", "M T-2").unit("amplitude", unit::length).unit("frequency", unit::rate)
-      .unit("restitution", unit::none);
-  s.table_array("walls", std::move(wall), 0, 16, "walls (default: the scenario's, the floor shaking)");
-  // A finished run (output.final_checkpoint) extends with --resume --set run.t_stop=...
-  s.allow_change_on_resume("run.t_stop");
-  s.unit("system.box", unit::length).unit("particle.radius", unit::length).unit("particle.mass", unit::mass)
-      .unit("contact.stiffness", "M T-2").unit("contact.restitution", unit::none).unit("contact.hertz_damping", unit::time)
-      .unit("contact.friction", unit::none)
-      .unit("contact.tangential_stiffness", unit::none).unit("contact.tangential_damping", unit::none).unit("shaking.amplitude", unit::length).unit("shaking.frequency", unit::rate)
-      .unit("gravity.acceleration", unit::acceleration).unit("neighbour.skin", unit::none).unit("run.t_stop", unit::time)
-      .unit("run.dt", unit::time).unit("output.interval", unit::time);
-}
+void declare_dem_keys(ConfigSchema& s, const DemDefaults& d);
 
 inline ContactLaw law_from(const Config& c, double stiffness, double restitution) {
   ContactLaw law;

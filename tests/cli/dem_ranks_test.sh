@@ -65,7 +65,7 @@ agree "$work/deep_whole.h5" "$work/deep_1to2.h5" 0
 
 # SIGINT on 2 ranks, finished on 3; a rank killed outright, resumed from
 # the last periodic checkpoint: both give the one-rank result bit for bit.
-long_bed=(--set run.t_stop=20 --set output.average_after=10 -q)
+long_bed=(--set run.t_stop=12 --set output.average_after=6 -q)
 "$granflow" run "$bed" "${long_bed[@]}" -o "$work/bed_whole.h5" || fail "one-rank reference exited with $?"
 interrupted 2 "$work/bed_cut.h5" run "$bed" "${long_bed[@]}"
 ranks 3 run "$bed" "${long_bed[@]}" -o "$work/bed_cut.h5" --resume || fail "3-rank resume of the interrupted run exited with $?"

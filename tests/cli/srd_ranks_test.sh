@@ -82,7 +82,7 @@ PY
 
 # SIGINT to the launcher: every rank stops at the same step and rank 0
 # writes the checkpoint; 3 ranks finish the run.
-big=(--set 'system.cells=[24,24,24]' --set run.steps=3000 -q)
+big=(--set 'system.cells=[24,24,24]' --set run.steps=1200 -q)
 interrupted 2 "$work/cut.h5" run "$cooling" "${big[@]}"
 ranks 3 run "$cooling" "${big[@]}" -o "$work/cut.h5" --resume || fail "--resume of the interrupted run on 3 ranks exited with $?"
 ranks 3 run "$cooling" "${big[@]}" -o "$work/uncut.h5" || fail "3-rank uninterrupted run exited with $?"
