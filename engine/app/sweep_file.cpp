@@ -24,10 +24,6 @@ std::string node_text(const toml::node& node) {
   return out.str();
 }
 
-ConfigError plan_error(const std::string& file, const std::string& what) {
-  return ConfigError(fmt::format("sweep file {}: {}", file, what));
-}
-
 // Leaves of a table in the order they are written in the file (toml++
 // iterates tables sorted by key).
 std::vector<std::pair<std::string, const toml::node*>> leaves_in_file_order(const toml::table& table) {
@@ -50,7 +46,7 @@ std::vector<std::pair<std::string, std::vector<std::string>>> value_lists(const 
   for (const auto& [key, node] : leaves) {
     const auto* array = node->as_array();
     if (!array || array->empty())
-      throw plan_error(file, fmt::format("[{}] '{}' must be a non-empty array of values", section, key));
+      throw sweep_file_error(file, fmt::format("[{}] '{}' must be a non-empty array of values", section, key));
     std::vector<std::string> values;
     for (const auto& element : *array) values.push_back(node_text(element));
     out.emplace_back(key, std::move(values));
@@ -66,7 +62,7 @@ std::vector<Assignment> grid_points(const toml::table* grid, const std::string& 
   double product = 1.0;
   for (const auto& [key, values] : axes) product *= static_cast<double>(values.size());
   if (product > static_cast<double>(max_sweep_points))
-    throw plan_error(file, fmt::format("[grid] spans {:.3g} parameter points; at most {} are allowed", product,
+    throw sweep_file_error(file, fmt::format("[grid] spans {:.3g} parameter points; at most {} are allowed", product,
                                        max_sweep_points));
   for (const auto& [key, values] : axes) {
     std::vector<Assignment> next;
@@ -88,7 +84,7 @@ std::vector<Assignment> zip_points(const toml::table* zip, const std::string& fi
   const std::size_t length = lists.front().second.size();
   for (const auto& [key, values] : lists)
     if (values.size() != length)
-      throw plan_error(file, fmt::format("[zip] lists must have equal lengths: '{}' has {}, '{}' has {}",
+      throw sweep_file_error(file, fmt::format("[zip] lists must have equal lengths: '{}' has {}, '{}' has {}",
                                          lists.front().first, length, key, values.size()));
   std::vector<Assignment> points(length);
   for (std::size_t k = 0; k < length; ++k)
@@ -102,13 +98,13 @@ std::vector<Assignment> listed_points(const toml::array* list, const std::string
   std::vector<Assignment> points;
   for (const auto& element : *list) {
     const auto* table = element.as_table();
-    if (!table) throw plan_error(file, "[[points]] entries must be tables of key = value");
+    if (!table) throw sweep_file_error(file, "[[points]] entries must be tables of key = value");
     const auto leaves = leaves_in_file_order(*table);
     Assignment point;
     for (const auto& [key, node] : leaves) point.emplace_back(key, node_text(*node));
     points.push_back(std::move(point));
   }
-  if (points.empty()) throw plan_error(file, "[[points]] is empty");
+  if (points.empty()) throw sweep_file_error(file, "[[points]] is empty");
   return points;
 }
 
@@ -121,22 +117,22 @@ SweepFile parse_sweep_text(const std::string& text, const std::string& name) {
                                     "set",           "grid",   "zip",     "points"};
   for (const auto& [key, node] : table)
     if (!known.contains(std::string(key.str())))
-      throw plan_error(name, fmt::format("unknown key '{}'; allowed: scenario_file, output, repeats, summary, "
+      throw sweep_file_error(name, fmt::format("unknown key '{}'; allowed: scenario_file, output, repeats, summary, "
                                          "cost, set, grid, zip, points",
                                          key.str()));
   SweepFile file;
   const auto scenario_file = table["scenario_file"].value_exact<std::string>();
-  if (!scenario_file) throw plan_error(name, "needs scenario_file = \"<scenario>.toml\"");
+  if (!scenario_file) throw sweep_file_error(name, "needs scenario_file = \"<scenario>.toml\"");
   file.scenario_file = *scenario_file;
   if (table.contains("output")) {
     file.output = table["output"].value_exact<std::string>();
-    if (!file.output || file.output->empty()) throw plan_error(name, "output must be a directory name (a string)");
+    if (!file.output || file.output->empty()) throw sweep_file_error(name, "output must be a directory name (a string)");
   }
   if (table.contains("repeats")) {
     const auto repeats = table["repeats"].value_exact<std::int64_t>();
-    if (!repeats) throw plan_error(name, "repeats must be an integer");
+    if (!repeats) throw sweep_file_error(name, "repeats must be an integer");
     if (*repeats < 1 || *repeats > 100000)
-      throw plan_error(name, fmt::format("repeats = {} is out of range: allowed is an integer in [1, 100000]",
+      throw sweep_file_error(name, fmt::format("repeats = {} is out of range: allowed is an integer in [1, 100000]",
                                          *repeats));
     file.repeats = static_cast<std::size_t>(*repeats);
   }
@@ -145,10 +141,10 @@ SweepFile parse_sweep_text(const std::string& text, const std::string& name) {
     if (!table.contains(key)) return;
     const auto* array = table[key].as_array();
     const std::string must = fmt::format("{} must be an array of {}", key, what_it_is);
-    if (!array) throw plan_error(name, must);
+    if (!array) throw sweep_file_error(name, must);
     for (const auto& entry : *array) {
       const auto text_value = entry.value_exact<std::string>();
-      if (!text_value) throw plan_error(name, must);
+      if (!text_value) throw sweep_file_error(name, must);
       out.push_back(*text_value);
     }
   };
@@ -156,21 +152,21 @@ SweepFile parse_sweep_text(const std::string& text, const std::string& name) {
   names("cost", "configuration keys (a run's expected cost grows as the product of their values)", file.cost);
   if (table.contains("set")) {
     const auto* fixed = table["set"].as_table();
-    if (!fixed) throw plan_error(name, "[set] must be a table of key = value");
+    if (!fixed) throw sweep_file_error(name, "[set] must be a table of key = value");
     for (const auto& [key, node] : leaves_in_file_order(*fixed)) file.fixed.emplace_back(key, node_text(*node));
   }
   for (const char* section : {"grid", "zip"})
     if (table.contains(section) && !table[section].as_table())
-      throw plan_error(name, fmt::format("[{}] must be a table of key = [values]", section));
+      throw sweep_file_error(name, fmt::format("[{}] must be a table of key = [values]", section));
   if (table.contains("points") && !table["points"].as_array())
-    throw plan_error(name, "[[points]] must be an array of tables");
+    throw sweep_file_error(name, "[[points]] must be an array of tables");
 
   // A key swept in two sections would silently lose one of its values.
   std::map<std::string, std::string> section_of;
   const auto claim = [&](const std::string& key, const std::string& section) {
     const auto [it, fresh] = section_of.emplace(key, section);
     if (!fresh && it->second != section)
-      throw plan_error(name, fmt::format("'{}' is swept in both [{}] and [{}]; give it in one of them", key, it->second,
+      throw sweep_file_error(name, fmt::format("'{}' is swept in both [{}] and [{}]; give it in one of them", key, it->second,
                                          section));
   };
   for (const char* section : {"grid", "zip"})
@@ -186,7 +182,7 @@ SweepFile parse_sweep_text(const std::string& text, const std::string& name) {
   for (const auto& factor : {grid_points(table["grid"].as_table(), name), zip_points(table["zip"].as_table(), name),
                              listed_points(table["points"].as_array(), name)}) {
     if (static_cast<double>(points.size()) * static_cast<double>(factor.size()) > static_cast<double>(max_sweep_points))
-      throw plan_error(name, fmt::format("the sweep spans more than {} parameter points", max_sweep_points));
+      throw sweep_file_error(name, fmt::format("the sweep spans more than {} parameter points", max_sweep_points));
     std::vector<Assignment> next;
     for (const auto& left : points)
       for (const auto& right : factor) {
@@ -205,6 +201,10 @@ SweepFile read_sweep_file(const std::string& path) {
   std::stringstream buffer;
   buffer << in.rdbuf();
   return parse_sweep_text(buffer.str(), path);
+}
+
+ConfigError sweep_file_error(const std::string& file, const std::string& what) {
+  return ConfigError(fmt::format("sweep file {}: {}", file, what));
 }
 
 }  // namespace granflow

@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "engine/core/config.hpp"
+
 namespace granflow {
 
 // Keys and values as written (value text as a --set would take it), in file order.
@@ -29,6 +31,9 @@ struct SweepFile {
 // A sweep beyond this many parameter points is refused before it is built
 // (a [grid] of a few long lists multiplies quickly).
 inline constexpr std::size_t max_sweep_points = 100'000;
+
+// The refusal of a sweep file: "sweep file FILE: WHAT".
+ConfigError sweep_file_error(const std::string& file, const std::string& what);
 
 // Throws ConfigError naming `name` and the problem.
 SweepFile parse_sweep_text(const std::string& text, const std::string& name);

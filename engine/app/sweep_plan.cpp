@@ -16,25 +16,21 @@ namespace granflow {
 
 namespace {
 
-ConfigError plan_error(const std::string& file, const std::string& what) {
-  return ConfigError(fmt::format("sweep file {}: {}", file, what));
-}
-
 // The product of the cost keys' values in `config` (an array counts as the
 // product of its entries: a box's volume).
 double run_cost(const Config& config, const std::vector<std::string>& keys, const std::string& file) {
   double cost = 1.0;
   for (const auto& key : keys) {
-    if (!config.schema().find(key)) throw plan_error(file, fmt::format("cost key '{}' is not a configuration key", key));
+    if (!config.schema().find(key)) throw sweep_file_error(file, fmt::format("cost key '{}' is not a configuration key", key));
     const ConfigValue& value = config.values().at(key);
     if (const auto* integer = std::get_if<std::int64_t>(&value)) cost *= static_cast<double>(*integer);
     else if (const auto* real = std::get_if<double>(&value)) cost *= *real;
     else if (const auto* reals = std::get_if<std::vector<double>>(&value))
       for (double r : *reals) cost *= r;
-    else throw plan_error(file, fmt::format("cost key '{}' is not a number or an array of numbers", key));
+    else throw sweep_file_error(file, fmt::format("cost key '{}' is not a number or an array of numbers", key));
   }
   if (!(cost > 0.0) || !std::isfinite(cost))
-    throw plan_error(file, fmt::format("the cost keys give a run a cost of {}; it must be positive and finite", cost));
+    throw sweep_file_error(file, fmt::format("the cost keys give a run a cost of {}; it must be positive and finite", cost));
   return cost;
 }
 
@@ -50,13 +46,13 @@ SweepPlan read_sweep_plan(const std::string& sweep_file, const std::string& outp
   plan.scenario_file = std::filesystem::path(sweep_file).parent_path() / file.scenario_file;
   plan.scenario = scenario_name_of(plan.scenario_file.string());
   const Scenario* scenario = scenario_registry().find(plan.scenario);
-  if (!scenario) throw plan_error(sweep_file, fmt::format("unknown scenario '{}'", plan.scenario));
+  if (!scenario) throw sweep_file_error(sweep_file, fmt::format("unknown scenario '{}'", plan.scenario));
   plan.directory = !output_directory.empty() ? std::filesystem::path(output_directory)
                    : file.output                ? std::filesystem::path(*file.output)
                                : std::filesystem::path(std::filesystem::path(sweep_file).stem().string());
   plan.repeats = file.repeats;
   if (file.points.size() * file.repeats > 10 * max_sweep_points)
-    throw plan_error(sweep_file, fmt::format("{} parameter points x {} repeats = {} runs; at most {} are allowed",
+    throw sweep_file_error(sweep_file, fmt::format("{} parameter points x {} repeats = {} runs; at most {} are allowed",
                                              file.points.size(), file.repeats, file.points.size() * file.repeats,
                                              10 * max_sweep_points));
   plan.summary = file.summary;
@@ -71,16 +67,16 @@ SweepPlan read_sweep_plan(const std::string& sweep_file, const std::string& outp
   for (std::size_t p = 0; p < points.size(); ++p)
     for (const auto& [key, value] : points[p])
       if (!base.schema().find(key))
-        throw plan_error(sweep_file, fmt::format("parameter point {}: unknown configuration key '{}'", p, key));
+        throw sweep_file_error(sweep_file, fmt::format("parameter point {}: unknown configuration key '{}'", p, key));
   std::set<std::string> seen;
   for (const auto& point : points)
     for (const auto& [key, value] : point)
       if (seen.insert(key).second) plan.swept_keys.push_back(key);
   const bool seed_swept = seen.contains("run.seed");
   if (plan.repeats > 1 && !base.schema().find("run.seed"))
-    throw plan_error(sweep_file, fmt::format("repeats need a run.seed key, which scenario '{}' lacks", plan.scenario));
+    throw sweep_file_error(sweep_file, fmt::format("repeats need a run.seed key, which scenario '{}' lacks", plan.scenario));
   if (plan.repeats > 1 && seed_swept)
-    throw plan_error(sweep_file, "run.seed is swept explicitly; then repeats must be 1");
+    throw sweep_file_error(sweep_file, "run.seed is swept explicitly; then repeats must be 1");
 
   const int digits = std::max<int>(3, static_cast<int>(std::to_string(points.size() - 1).size()));
   for (std::size_t p = 0; p < points.size(); ++p) {
@@ -90,7 +86,7 @@ SweepPlan read_sweep_plan(const std::string& sweep_file, const std::string& outp
       try {
         config.apply_override(key + "=" + value);
       } catch (const ConfigError& error) {
-        throw plan_error(sweep_file, fmt::format("parameter point {}: {}", p, error.what()));
+        throw sweep_file_error(sweep_file, fmt::format("parameter point {}: {}", p, error.what()));
       }
       row[static_cast<std::size_t>(std::find(plan.swept_keys.begin(), plan.swept_keys.end(), key) -
                                    plan.swept_keys.begin())] = value;
