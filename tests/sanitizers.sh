@@ -8,7 +8,7 @@
 #   tests/sanitizers.sh --ci [build-directory]   CI's share: the unit tests and
 #                                                the damaged-file tests
 #                                                (checkpoint corruption, full
-#                                                disk, export), about 10 minutes
+#                                                disk, export), about 6 minutes
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ci=false
