@@ -63,7 +63,7 @@ std::vector<Assignment> grid_points(const toml::table* grid, const std::string& 
   for (const auto& [key, values] : axes) product *= static_cast<double>(values.size());
   if (product > static_cast<double>(max_sweep_points))
     throw sweep_file_error(file, fmt::format("[grid] spans {:.3g} parameter points; at most {} are allowed", product,
-                                       max_sweep_points));
+                                             max_sweep_points));
   for (const auto& [key, values] : axes) {
     std::vector<Assignment> next;
     for (const auto& point : points)
@@ -85,7 +85,7 @@ std::vector<Assignment> zip_points(const toml::table* zip, const std::string& fi
   for (const auto& [key, values] : lists)
     if (values.size() != length)
       throw sweep_file_error(file, fmt::format("[zip] lists must have equal lengths: '{}' has {}, '{}' has {}",
-                                         lists.front().first, length, key, values.size()));
+                                               lists.front().first, length, key, values.size()));
   std::vector<Assignment> points(length);
   for (std::size_t k = 0; k < length; ++k)
     for (const auto& [key, values] : lists) points[k].emplace_back(key, values[k]);
@@ -118,22 +118,23 @@ SweepFile parse_sweep_text(const std::string& text, const std::string& name) {
   for (const auto& [key, node] : table)
     if (!known.contains(std::string(key.str())))
       throw sweep_file_error(name, fmt::format("unknown key '{}'; allowed: scenario_file, output, repeats, summary, "
-                                         "cost, set, grid, zip, points",
-                                         key.str()));
+                                               "cost, set, grid, zip, points",
+                                               key.str()));
   SweepFile file;
   const auto scenario_file = table["scenario_file"].value_exact<std::string>();
   if (!scenario_file) throw sweep_file_error(name, "needs scenario_file = \"<scenario>.toml\"");
   file.scenario_file = *scenario_file;
   if (table.contains("output")) {
     file.output = table["output"].value_exact<std::string>();
-    if (!file.output || file.output->empty()) throw sweep_file_error(name, "output must be a directory name (a string)");
+    if (!file.output || file.output->empty())
+      throw sweep_file_error(name, "output must be a directory name (a string)");
   }
   if (table.contains("repeats")) {
     const auto repeats = table["repeats"].value_exact<std::int64_t>();
     if (!repeats) throw sweep_file_error(name, "repeats must be an integer");
     if (*repeats < 1 || *repeats > 100000)
       throw sweep_file_error(name, fmt::format("repeats = {} is out of range: allowed is an integer in [1, 100000]",
-                                         *repeats));
+                                               *repeats));
     file.repeats = static_cast<std::size_t>(*repeats);
   }
   // An array of strings, or the error that says what `key` must be.
@@ -166,8 +167,8 @@ SweepFile parse_sweep_text(const std::string& text, const std::string& name) {
   const auto claim = [&](const std::string& key, const std::string& section) {
     const auto [it, fresh] = section_of.emplace(key, section);
     if (!fresh && it->second != section)
-      throw sweep_file_error(name, fmt::format("'{}' is swept in both [{}] and [{}]; give it in one of them", key, it->second,
-                                         section));
+      throw sweep_file_error(name, fmt::format("'{}' is swept in both [{}] and [{}]; give it in one of them", key,
+                                               it->second, section));
   };
   for (const char* section : {"grid", "zip"})
     if (const auto* t = table[section].as_table())

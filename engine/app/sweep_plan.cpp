@@ -21,7 +21,8 @@ namespace {
 double run_cost(const Config& config, const std::vector<std::string>& keys, const std::string& file) {
   double cost = 1.0;
   for (const auto& key : keys) {
-    if (!config.schema().find(key)) throw sweep_file_error(file, fmt::format("cost key '{}' is not a configuration key", key));
+    if (!config.schema().find(key))
+      throw sweep_file_error(file, fmt::format("cost key '{}' is not a configuration key", key));
     const ConfigValue& value = config.values().at(key);
     if (const auto* integer = std::get_if<std::int64_t>(&value)) cost *= static_cast<double>(*integer);
     else if (const auto* real = std::get_if<double>(&value)) cost *= *real;
@@ -30,7 +31,8 @@ double run_cost(const Config& config, const std::vector<std::string>& keys, cons
     else throw sweep_file_error(file, fmt::format("cost key '{}' is not a number or an array of numbers", key));
   }
   if (!(cost > 0.0) || !std::isfinite(cost))
-    throw sweep_file_error(file, fmt::format("the cost keys give a run a cost of {}; it must be positive and finite", cost));
+    throw sweep_file_error(file,
+                           fmt::format("the cost keys give a run a cost of {}; it must be positive and finite", cost));
   return cost;
 }
 
@@ -53,8 +55,8 @@ SweepPlan read_sweep_plan(const std::string& sweep_file, const std::string& outp
   plan.repeats = file.repeats;
   if (file.points.size() * file.repeats > 10 * max_sweep_points)
     throw sweep_file_error(sweep_file, fmt::format("{} parameter points x {} repeats = {} runs; at most {} are allowed",
-                                             file.points.size(), file.repeats, file.points.size() * file.repeats,
-                                             10 * max_sweep_points));
+                                                   file.points.size(), file.repeats, file.points.size() * file.repeats,
+                                                   10 * max_sweep_points));
   plan.summary = file.summary;
   plan.cost_keys = file.cost;
 
@@ -74,7 +76,8 @@ SweepPlan read_sweep_plan(const std::string& sweep_file, const std::string& outp
       if (seen.insert(key).second) plan.swept_keys.push_back(key);
   const bool seed_swept = seen.contains("run.seed");
   if (plan.repeats > 1 && !base.schema().find("run.seed"))
-    throw sweep_file_error(sweep_file, fmt::format("repeats need a run.seed key, which scenario '{}' lacks", plan.scenario));
+    throw sweep_file_error(sweep_file,
+                           fmt::format("repeats need a run.seed key, which scenario '{}' lacks", plan.scenario));
   if (plan.repeats > 1 && seed_swept)
     throw sweep_file_error(sweep_file, "run.seed is swept explicitly; then repeats must be 1");
 
