@@ -442,17 +442,16 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     // This rank's own straddling cells beyond its slab (nothing where none straddles).
     keep_below_edge_ = part_below > 0.0 ? low_ - part_below - margin : low_;
     keep_above_edge_ = part_below > 0.0 ? high_ + (1.0 - part_below) + margin : high_;
-    const Columns c = columns();
     const std::size_t n = local_.size();
     constexpr std::size_t chunk = 4096;
     const std::size_t chunks = (n + chunk - 1) / chunk;
     sorted_out_.resize(chunks);
-    const double dt = dt_;
-    const double* length = cells.length.data();
+    const Columns c = columns();
     const Shear shear = cells.shear;
-    const bool walled = !cells.walls.empty() || physics_.force.any();
     const WalledFlight<D> flight{cells.walls.data(), static_cast<int>(cells.walls.size()), periodic_, physics_.force,
-                                 start, dt, length};
+                                 start, dt_, cells.length.data()};
+    const SlabEdges edges{axis_, low_, high_, ghost_below_edge_, ghost_above_edge_};
+    const bool walled = !cells.walls.empty() || physics_.force.any();
     const bool work = cells.record_energy;
     tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
       auto& lists = sorted_out_[k];
@@ -461,26 +460,57 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
       lists.above.clear();
       lists.reflections = lists.stranded = 0;
       lists.work = 0.0;
-      for (std::size_t i = k * chunk; i < std::min(n, (k + 1) * chunk); ++i) {
-        double* x = c.x[i].data();
-        if (walled) {
-          const int reflections = flight(x, c.v[i].data(), c.image ? c.image[i].data() : nullptr, work ? &lists.work : nullptr);
+      const std::size_t first = k * chunk, end = std::min(n, (k + 1) * chunk);
+      if (walled) {
+        stream_chunk(first, end, c, edges, lists, [&](std::size_t i, double* x, double* v) {
+          const int reflections = flight(x, v, c.image ? c.image[i].data() : nullptr, work ? &lists.work : nullptr);
           lists.reflections += static_cast<std::uint64_t>(reflections);
           lists.stranded += reflections == most_reflections ? 1 : 0;
-        } else if (c.image) {
-          stream_particle<D, true>(x, c.v[i].data(), dt, length, shear, c.image[i].data());
-        } else {
-          stream_particle<D>(x, c.v[i].data(), dt, length, shear);
-        }
-        const double z = x[axis_];
-        if (!(z >= low_ && z < high_) && slab_.owner(z) != slab_.rank) {
+        });
+      } else if (c.image) {
+        stream_chunk(first, end, c, edges, lists, [&](std::size_t i, double* x, double* v) {
+          stream_particle<D, true>(x, v, flight.dt, flight.length, shear, c.image[i].data());
+        });
+      } else {
+        stream_chunk(first, end, c, edges, lists, [&](std::size_t, double* x, double* v) {
+          stream_particle<D>(x, v, flight.dt, flight.length, shear);
+        });
+      }
+    });
+  }
+
+  // Per chunk of particles, from the streaming pass: those leaving the slab
+  // and those the neighbour below / above needs as ghosts.
+  struct SortedOut {
+    std::vector<std::size_t> leaving, below, above;
+    std::uint64_t reflections = 0, stranded = 0;
+    double work = 0.0;  // by the walls, per unit mass
+  };
+  // This step's edges along the slab axis, as values: the streaming loop
+  // writes positions through pointers, which could otherwise alias the
+  // members and have them read again for every particle.
+  struct SlabEdges {
+    int axis;
+    double low, high, ghost_below, ghost_above;
+  };
+  // Streams particles [first, end) with `move` and sorts out those that
+  // left the slab and those the neighbours need as ghosts.
+  template <class Move>
+  void stream_chunk(std::size_t first, std::size_t end, const Columns& c, const SlabEdges edges, SortedOut& lists,
+                    Move&& move) const {
+    for (std::size_t i = first; i < end; ++i) {
+      double* x = c.x[i].data();
+      move(i, x, c.v[i].data());
+      const double z = x[edges.axis];
+      if (z < edges.ghost_below || z >= edges.ghost_above) [[unlikely]] {
+        if (!(z >= edges.low && z < edges.high) && slab_.owner(z) != slab_.rank) {
           lists.leaving.push_back(i);
           continue;
         }
-        if (z < ghost_below_edge_) lists.below.push_back(i);
-        if (z >= ghost_above_edge_) lists.above.push_back(i);
+        if (z < edges.ghost_below) lists.below.push_back(i);
+        if (z >= edges.ghost_above) lists.above.push_back(i);
       }
-    });
+    }
   }
 
   // Particles that streamed out of the slab go towards their owner, the
@@ -857,13 +887,6 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   Communicator::Sum agreement_;              // on two ranks: the signal, in flight until the step ends
   bool agreement_open_ = false;
   std::vector<double> arrived_ghosts_, kept_;  // this step's ghosts: the neighbours' and this rank's copies
-  // Per chunk of particles, from the streaming pass: those leaving the slab
-  // and those the neighbour below / above needs as ghosts.
-  struct SortedOut {
-    std::vector<std::size_t> leaving, below, above;
-    std::uint64_t reflections = 0, stranded = 0;
-    double work = 0.0;  // by the walls, per unit mass
-  };
   std::vector<SortedOut> sorted_out_;
   PhaseTimes<12> times_{{"streaming", "migration", "ghost_exchange", "binning", "reduction", "rotation",
                          "ghost_removal", "gather", "communication", "agreement", "balance_check", "rebalance"}};
