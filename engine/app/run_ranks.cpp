@@ -161,6 +161,37 @@ class MpiCommunicator final : public Communicator {
     return all;
   }
 
+  std::vector<double> gather_to_first(const std::vector<double>& mine) const override {
+    const long long count = static_cast<long long>(mine.size());
+    std::vector<long long> counts(rank_ == 0 ? static_cast<std::size_t>(size_) : 0);
+    MPI_Gather(&count, 1, MPI_LONG_LONG, counts.data(), 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+    long long total = 0;
+    std::vector<int> sizes, offsets;
+    for (const long long c : counts) {
+      offsets.push_back(static_cast<int>(std::min<long long>(total, INT_MAX)));
+      sizes.push_back(static_cast<int>(c));
+      total += c;
+    }
+    // Every rank learns whether rank 0 can take it all, so that all refuse together.
+    int fits = total <= INT_MAX ? 1 : 0;
+    MPI_Bcast(&fits, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (!fits)
+      throw std::runtime_error("the state to gather for output exceeds one MPI message (2^31 values) on rank 0");
+    std::vector<double> all(static_cast<std::size_t>(total));
+    MPI_Gatherv(mine.data(), static_cast<int>(count), MPI_DOUBLE, all.data(), sizes.data(), offsets.data(),
+                MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    return all;
+  }
+
+  std::vector<double> values_from_first(const std::vector<double>& values) const override {
+    long long count = static_cast<long long>(values.size());
+    MPI_Bcast(&count, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+    refuse_beyond_int(count);
+    std::vector<double> out = rank_ == 0 ? values : std::vector<double>(static_cast<std::size_t>(count));
+    MPI_Bcast(out.data(), static_cast<int>(count), MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    return out;
+  }
+
   std::int64_t sum(std::int64_t value) const override {
     long long in = value, out = 0;
     MPI_Allreduce(&in, &out, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);

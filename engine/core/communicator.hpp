@@ -54,9 +54,24 @@ class Communicator {
   virtual void wait_sent(Exchange&) const {}
   // Every rank's `mine`, concatenated in rank order, on every rank.
   virtual std::vector<double> gather_all(const std::vector<double>& mine) const = 0;
+  // Every rank's `mine`, concatenated in rank order, on rank 0 only (the
+  // others get nothing): what one writer needs, without the whole on every
+  // rank.
+  virtual std::vector<double> gather_to_first(const std::vector<double>& mine) const {
+    std::vector<double> all = gather_all(mine);
+    if (rank() != 0) all.clear();
+    return all;
+  }
   virtual std::int64_t sum(std::int64_t value) const = 0;
   // Rank 0's value on every rank.
   virtual bool from_first(bool value) const = 0;
+  // Rank 0's values (of any length) on every rank.
+  virtual std::vector<double> values_from_first(const std::vector<double>& values) const {
+    const std::vector<double> sizes = gather_all({static_cast<double>(values.size())});
+    std::vector<double> all = gather_all(values);
+    all.resize(static_cast<std::size_t>(sizes.front()));
+    return all;
+  }
   // sum in two halves, as the exchange: started with this rank's value,
   // read (and waited for) at finish_sum. Other collective calls may come
   // between, in the same order on every rank.

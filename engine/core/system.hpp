@@ -32,6 +32,13 @@ class System {
   // Its stages as the accelerator's own clock timed them: the wall time of
   // an asynchronous launch says nothing. Added to the /profile table.
   virtual std::vector<ProfileEntry> device_profile() const { return {}; }
+
+  // Over MPI ranks the observers run on rank 0 alone (the others hold only
+  // their part of the system). What they asked of a step system in the
+  // World (sums it should compute every step) goes to the other ranks as
+  // rank 0's `observers_requests`, which they `adopt_observers_requests`.
+  virtual std::vector<double> observers_requests(const World&) const { return {}; }
+  virtual void adopt_observers_requests(World&, const std::vector<double>&) {}
 };
 
 }  // namespace granflow

@@ -68,6 +68,11 @@ class View<Reads<R...>, Writes<W...>> {
     static_assert(listed<EveryColumn, W...>, "View::permute needs EveryColumn in Writes<...>");
     world_.permute(order);
   }
+  // No particles, and their columns' memory given back (World::release).
+  void release() {
+    static_assert(listed<EveryColumn, W...>, "View::release needs EveryColumn in Writes<...>");
+    world_.release();
+  }
   // Whether the World holds an optional column or resource the view lists.
   template <class T>
   bool has() const {

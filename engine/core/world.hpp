@@ -34,6 +34,8 @@ class ColumnBase {
   virtual ~ColumnBase() = default;
   virtual void resize(std::size_t count) = 0;
   virtual void reserve(std::size_t count) = 0;
+  // Empties the column and gives its memory back.
+  virtual void release() = 0;
   // new_values[k] = old_values[order[k]]
   virtual void permute(const std::vector<std::uint32_t>& order) = 0;
   virtual std::size_t bytes_per_entity() const = 0;
@@ -66,6 +68,7 @@ struct Column : ColumnBase {
 
   void resize(std::size_t count) override { values.resize(count); }
   void reserve(std::size_t count) override { values.reserve(count); }
+  void release() override { std::vector<T>().swap(values); }
   void permute(const std::vector<std::uint32_t>& order) override {
     // The room the column had stays: a column that grows again after a
     // reordering (a step over ranks adds its neighbours' particles) then
@@ -121,6 +124,11 @@ class World {
   void resize(std::size_t entity_count) {
     count_ = entity_count;
     for (auto& [type, entry] : components_) entry.column->resize(count_);
+  }
+  // No entities, and the columns' memory given back (the columns stay).
+  void release() {
+    count_ = 0;
+    for (auto& [type, entry] : components_) entry.column->release();
   }
   // Room for `entity_count` entities in every column, so that growing to
   // it moves nothing (a permutation leaves the columns without room).

@@ -123,12 +123,63 @@ void Run::run_observers(Due&& due) {
   if (!any) return;
   enabled_.back() = true;  // the recorder, which reads only observables
   const auto& observers = observers_.systems();
-  for (std::size_t k = 0; k + 1 < observers.size(); ++k)
-    if (enabled_[k] && observers[k]->reads_device_state(world_)) {
-      synchronise_host();
-      break;
+  bool reads_device = false;
+  for (std::size_t k = 0; k + 1 < observers.size() && !reads_device; ++k)
+    reads_device = enabled_[k] && observers[k]->reads_device_state(world_);
+  const bool on_ranks = communicator_ && communicator_->size() > 1;
+  if (on_ranks) reads_device = communicator_->from_first(reads_device);
+  if (reads_device) synchronise_host();
+  if (observes()) observers_.run(world_, enabled_);
+  if (on_ranks) share_observers_outcome();
+}
+
+bool Run::observes() const { return !communicator_ || communicator_->size() < 2 || communicator_->rank() == 0; }
+
+// One message from rank 0: [stop, failed, reason's length, its characters,
+// then per step system the length of its requests and them].
+void Run::share_observers_outcome() {
+  auto& control = world_.resource<RunControl>();
+  std::vector<double> message;
+  if (communicator_->rank() == 0) {
+    message = {control.stop ? 1.0 : 0.0, control.failed ? 1.0 : 0.0, static_cast<double>(control.reason.size())};
+    for (const char c : control.reason) message.push_back(static_cast<unsigned char>(c));
+    for (const auto& system : steps_.systems()) {
+      const std::vector<double> asked = system->observers_requests(world_);
+      message.push_back(static_cast<double>(asked.size()));
+      message.insert(message.end(), asked.begin(), asked.end());
     }
-  observers_.run(world_, enabled_);
+  }
+  message = communicator_->values_from_first(message);
+  if (communicator_->rank() == 0) return;
+  control.stop = message[0] != 0.0;
+  control.failed = message[1] != 0.0;
+  const auto length = static_cast<std::size_t>(message[2]);
+  control.reason.clear();
+  for (std::size_t k = 0; k < length; ++k) control.reason.push_back(static_cast<char>(static_cast<unsigned char>(message[3 + k])));
+  std::size_t at = 3 + length;
+  for (const auto& system : steps_.systems()) {
+    const auto count = static_cast<std::size_t>(message[at]);
+    const auto first = message.begin() + static_cast<std::ptrdiff_t>(at + 1);
+    system->adopt_observers_requests(world_, std::vector<double>(first, first + static_cast<std::ptrdiff_t>(count)));
+    at += 1 + count;
+  }
+}
+
+std::optional<std::string> Run::stop_criterion_met() {
+  if (stop_criteria_.empty()) return std::nullopt;
+  std::optional<std::string> met;
+  if (observes())
+    for (const auto& criterion : stop_criteria_)
+      if ((met = criterion())) break;
+  if (!communicator_ || communicator_->size() < 2) return met;
+  std::vector<double> message;
+  if (met)
+    for (const char c : *met) message.push_back(static_cast<unsigned char>(c));
+  if (!communicator_->from_first(met.has_value())) return std::nullopt;
+  message = communicator_->values_from_first(message);
+  std::string reason;
+  for (const double c : message) reason.push_back(static_cast<char>(static_cast<unsigned char>(c)));
+  return reason;
 }
 
 // Observers whose trigger is due at the clock run; at a stop, so do those
@@ -197,11 +248,10 @@ RunOutcome Run::execute(const std::atomic<bool>* interrupt, const std::function<
       return {control.failed ? RunOutcome::Kind::failed : RunOutcome::Kind::stopped, control.reason};
     }
     if (clock.time >= stop_time_ || clock.step >= stop_step_) break;
-    for (const auto& criterion : stop_criteria_)
-      if (auto reason = criterion()) {
-        fire_at_end();
-        return {RunOutcome::Kind::finished, *reason};
-      }
+    if (auto reason = stop_criterion_met()) {
+      fire_at_end();
+      return {RunOutcome::Kind::finished, *reason};
+    }
     if (after_round) after_round();
   }
   fire_at_end();

@@ -154,6 +154,13 @@ class Run {
   void synchronise_host();
   template <class Due>
   void run_observers(Due&& due);
+  // Over ranks: whether rank 0 is the one that observes (true without ranks).
+  bool observes() const;
+  // Over ranks: rank 0's outcome of its observers (stop, failure, reason,
+  // and what they asked of the step systems) on every rank.
+  void share_observers_outcome();
+  // The first stop criterion met, decided by rank 0 over ranks.
+  std::optional<std::string> stop_criterion_met();
 
   const Config& config_;
   Profiler& profiler_;

@@ -134,8 +134,9 @@ void report_interruption(int signal_number, const std::string& checkpoint, const
 int single_run(const Scenario& scenario, const Config& config, const RunOptions& options) {
   const std::string output = output_path_of(scenario, options);
   const std::string checkpoint = output + ".checkpoint";
-  // Over several ranks, rank 0 writes the result and the checkpoints; the
-  // others run the same loop without a file.
+  // Over several ranks, rank 0 observes and writes the result and the
+  // checkpoints; the others run the same loop without a file or observers,
+  // and adopt rank 0's observers' decisions (Run::run_observers).
   Communicator* const ranks = options.communicator;
   const bool writer = !ranks || ranks->rank() == 0;
   check_output_path(output);

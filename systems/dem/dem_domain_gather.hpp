@@ -90,8 +90,9 @@ inline void follow_order(World& whole, const std::vector<double>& all, std::size
 
 
 // The own spheres [from, from + count) of every rank's `local` World, with
-// their lists (partners by whole index), into `whole`; `grid`: the whole
-// system's list cells, whose layers the lists' slabs are. Collective.
+// their lists (partners by whole index), into `whole` on rank 0 (the
+// others' stays as it is); `grid`: the whole system's list cells, whose
+// layers the lists' slabs are. Collective.
 inline void gather_whole(const Communicator& ranks, World& local, std::size_t from, std::size_t count,
                          const CellGrid<3>& grid, World& whole) {
   const auto& nl = local.resource<NeighbourList<3>>();
@@ -126,8 +127,9 @@ inline void gather_whole(const Communicator& ranks, World& local, std::size_t fr
       if (nl.keeps_history) pairs.insert(pairs.end(), nl.shear[p].begin(), nl.shear[p].end());
     }
   }
-  const std::vector<double> all = ranks.gather_all(spheres);
-  const std::vector<double> all_pairs = ranks.gather_all(pairs);
+  const std::vector<double> all = ranks.gather_to_first(spheres);
+  const std::vector<double> all_pairs = ranks.gather_to_first(pairs);
+  if (ranks.rank() > 0) return;
   const std::size_t n = all.size() / width;
   follow_order(whole, all, width, 12);
   whole.resize(n);

@@ -34,10 +34,13 @@
 // slab bounds or the threads; a run resumes bit for bit on any number of
 // ranks.
 //
-// Observers and checkpoints read the World, which here is the whole system:
-// synchronise_host gathers every rank's spheres into it, in rank order,
-// which is the whole system's order, with the neighbour lists, so that a
-// checkpoint is that of one rank and resumes on any number of ranks.
+// Observers and checkpoints read the World, which on rank 0 is the whole
+// system: synchronise_host gathers every rank's spheres into it, in rank
+// order, which is the whole system's order, with the neighbour lists, so
+// that a checkpoint is that of one rank and resumes on any number of ranks.
+// Only rank 0 observes and writes (Run::run_observers shares its
+// observers' decisions), so the other ranks let go of the whole system
+// once they have their slab.
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -276,6 +279,8 @@ class DemDomainStep : public DemDomainStepBase {
     forces_.as_part_of_whole(first_layer_, alike_[0], alike_[1]);
     count_edges();
     scattered_ = true;
+    // Only rank 0 observes and writes: the others need the whole no more.
+    if (ranks_.rank() > 0) view.release();
   }
 
   void add_columns() {

@@ -36,12 +36,15 @@
 // number of ranks a run is bit for bit the same on any thread count, and
 // resumes bit for bit.
 //
-// Observers and checkpoints read the World, which here is the whole system:
-// synchronise_host gathers every rank's particles into it, in rank order, on
-// every rank (so observers decide the same everywhere), with this step's
-// cells as the reduction left them before the rotation, as on one rank. A
-// resumed run scatters that World back by slab, which gives each rank its
-// particles in the order it held them.
+// Observers and checkpoints read the World, which on rank 0 is the whole
+// system: synchronise_host gathers every rank's particles into it, in rank
+// order, with this step's cells as the reduction left them before the
+// rotation, as on one rank. Only rank 0 observes and writes
+// (Run::run_observers shares its observers' decisions, and what its
+// samplers ask of this step, with the others), so the other ranks let go
+// of the whole system once they have their slab. A resumed run scatters
+// the checkpoint's World back by slab, which gives each rank its particles
+// in the order it held them.
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -238,7 +241,14 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     const Columns c = columns();
     for (std::size_t i = 0; i < local_.size(); ++i) pack(c, i, mine, 0.0);
     std::vector<double> all;
-    timed(7, [&] { all = ranks_.gather_all(mine); });
+    timed(7, [&] { all = ranks_.gather_to_first(mine); });
+    mine = {};
+    const auto clamped = ranks_.sum(static_cast<std::int64_t>(local_.resource<SrdCells<D>>().clamped_cells));
+    if (ranks_.rank() > 0) {
+      gather_cells(nullptr);
+      host_current_ = true;
+      return;
+    }
     const std::size_t n = all.size() / width();
     whole.resize(n);
     auto& x = whole.component<Position<D>>();
@@ -247,11 +257,32 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     ImageCount<D>* image = images_ ? &whole.component<ImageCount<D>>() : nullptr;
     for (std::size_t i = 0; i < n; ++i) unpack(all.data() + i * width(), x[i], v[i], id, image, i);
     auto& cells = whole.resource<SrdCells<D>>();
+    all = {};
     SrdCellBinning<D>::assign(x, cells);
-    gather_cells(cells);
-    cells.clamped_cells =
-        static_cast<std::uint64_t>(ranks_.sum(static_cast<std::int64_t>(local_.resource<SrdCells<D>>().clamped_cells)));
+    gather_cells(&cells);
+    cells.clamped_cells = static_cast<std::uint64_t>(clamped);
     host_current_ = true;
+  }
+
+  // The every-step sums rank 0's samplers asked for, for the other ranks,
+  // which add their particles' part (fill_step_sums) though they observe
+  // nothing: [stress asked, then axis, flow and layers of each request].
+  std::vector<double> observers_requests(const World& whole) const override {
+    if (!whole.has_resource<SrdStepSums<D>>()) return {};
+    const auto& sums = whole.resource<SrdStepSums<D>>();
+    std::vector<double> out{sums.stress_requested ? 1.0 : 0.0};
+    for (const LayerSumsRequest& r : sums.layer_requests)
+      out.insert(out.end(), {static_cast<double>(r.axis), static_cast<double>(r.flow), static_cast<double>(r.layers)});
+    return out;
+  }
+  void adopt_observers_requests(World& whole, const std::vector<double>& asked) override {
+    if (asked.empty() || !whole.has_resource<SrdStepSums<D>>()) return;
+    auto& sums = whole.resource<SrdStepSums<D>>();
+    sums.stress_requested = asked[0] != 0.0;
+    sums.layer_requests.clear();
+    for (std::size_t k = 1; k + 3 <= asked.size(); k += 3)
+      sums.layer_requests.push_back(
+          {static_cast<int>(asked[k]), static_cast<int>(asked[k + 1]), static_cast<int>(asked[k + 2])});
   }
 
   // The time in each part of the step: this rank's as the step's own rows
@@ -289,9 +320,9 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   }
 
   // This step's cells (as the reduction left them, before the rotation, with
-  // the rotation's collisional transfer) into the whole grid, each from the
-  // rank that owns it.
-  void gather_cells(SrdCells<D>& whole) const {
+  // the rotation's collisional transfer) into the whole grid on rank 0
+  // (`whole` is null on the others), each from the rank that owns it.
+  void gather_cells(SrdCells<D>* whole) const {
     const auto& local = local_.resource<SrdCells<D>>();
     constexpr std::size_t record = 5 + D;
     std::vector<double> mine;
@@ -304,14 +335,15 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
       mine.push_back(local.transfer[c]);
       for (int a = 0; a < D; ++a) mine.push_back(local.velocity[c][a]);
     }
-    const std::vector<double> all = ranks_.gather_all(mine);
+    const std::vector<double> all = ranks_.gather_to_first(mine);
+    if (!whole) return;
     for (std::size_t r = 0; r + record <= all.size(); r += record) {
       const auto c = static_cast<std::size_t>(all[r]);
-      whole.count[c] = static_cast<std::uint32_t>(all[r + 1]);
-      whole.mass[c] = all[r + 2];
-      whole.theta[c] = all[r + 3];
-      whole.transfer[c] = all[r + 4];
-      for (int a = 0; a < D; ++a) whole.velocity[c][a] = all[r + 5 + static_cast<std::size_t>(a)];
+      whole->count[c] = static_cast<std::uint32_t>(all[r + 1]);
+      whole->mass[c] = all[r + 2];
+      whole->theta[c] = all[r + 3];
+      whole->transfer[c] = all[r + 4];
+      for (int a = 0; a < D; ++a) whole->velocity[c][a] = all[r + 5 + static_cast<std::size_t>(a)];
     }
   }
 
@@ -343,6 +375,8 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     append(mine, 0);
     local_.resource<Clock>() = view.template read<Clock>();
     scattered_ = true;
+    // Only rank 0 observes and writes: the others need the whole no more.
+    if (ranks_.rank() > 0) view.release();
   }
 
   // The local columns, looked up once per pass rather than per particle.
