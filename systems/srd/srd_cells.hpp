@@ -16,6 +16,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "components/vector.hpp"
@@ -145,6 +146,14 @@ struct SrdCells {
     if (!walls.empty()) ghosts.assign(total, 0);
   }
   std::size_t cell_count() const { return mass.size(); }
+  // Gives back the memory of every per-particle and per-cell array, keeping
+  // the geometry: on a rank that holds the whole grid only to describe it.
+  void release_arrays() {
+    const auto release = [](auto& values) { std::remove_reference_t<decltype(values)>().swap(values); };
+    release(cell), release(image), release(blocks), release(order), release(start), release(chunk_counts);
+    release(count), release(mass), release(velocity), release(theta), release(sums), release(moment);
+    release(moment_mass), release(transfer), release(ghosts);
+  }
   // The number cell c's random numbers are keyed by: c itself, or on one
   // rank's part of a grid spread over ranks (srd_domain_step.hpp), the cell
   // of the whole grid it is, so that every rank draws what one rank would.

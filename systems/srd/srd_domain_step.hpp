@@ -104,6 +104,9 @@ struct DomainStepPhysics {
   BodyForce<D> force;
   double thermostat_temperature = 0.0;  // 0: none
   bool remove_drift = true;             // the thermostat's: false between walls
+  // The World holds this rank's slab from the start (add_srd_fluid), not
+  // the whole system: the first gather then builds rank 0's whole.
+  bool started_by_slab = false;
 };
 
 // When the slabs are rebalanced: every `every_steps` (0: never) each
@@ -146,6 +149,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
         reorder_interval_(reorder_interval),
         balance_(std::move(balance)) {
     local_.emplace_resource<Clock>();
+    host_current_ = !physics.started_by_slab;
     place_grid(whole);
     periodic_ = ~whole.bounded;
     accounts_ = !whole.walls.empty() || whole.record_energy;
@@ -179,6 +183,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
 
   void run_on(View view) override {
     if (!scattered_) scatter(view);
+    stepped_ = true;
     const auto now = local_.resource<Clock>().step;
     if (balance_.every_steps > 0 && now > 0 && now % balance_.every_steps == 0) timed(10, [&] { rebalance(); });
     auto& clock = local_.resource<Clock>();
@@ -235,7 +240,8 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   // Every rank's particles into the whole World, on every rank, and the
   // whole grid's cells from them.
   void synchronise_host(World& whole) override {
-    if (host_current_ || !scattered_) return;
+    if (host_current_) return;
+    if (!scattered_) scatter(View(whole));
     std::vector<double> mine;
     mine.reserve(local_.size() * width());
     const Columns c = columns();
@@ -245,7 +251,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     mine = {};
     const auto clamped = ranks_.sum(static_cast<std::int64_t>(local_.resource<SrdCells<D>>().clamped_cells));
     if (ranks_.rank() > 0) {
-      gather_cells(nullptr);
+      if (stepped_) gather_cells(nullptr);
       host_current_ = true;
       return;
     }
@@ -259,7 +265,10 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     auto& cells = whole.resource<SrdCells<D>>();
     all = {};
     SrdCellBinning<D>::assign(x, cells);
-    gather_cells(&cells);
+    // Before the first step the cells are the initial state's, from the
+    // whole system as on one rank (the slabs have reduced none yet).
+    if (stepped_) gather_cells(&cells);
+    else SrdCellReduction<D>::reduce(whole, cells);
     cells.clamped_cells = static_cast<std::uint64_t>(clamped);
     host_current_ = true;
   }
@@ -363,6 +372,19 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     local_.add_component<DomainGhost>();
     if (ids_) local_.add_component<ParticleId>();
     if (images_) local_.add_component<ImageCount<D>>();
+    if (physics_.started_by_slab) {
+      // The World holds this slab's particles in order: its columns become
+      // the rank's, and rank 0's whole comes with its first gather.
+      const std::size_t n = view.size();
+      std::swap(local_.component<Position<D>>().values, view.template write<Position<D>>().values);
+      std::swap(local_.component<Velocity<D>>().values, view.template write<Velocity<D>>().values);
+      if (ids_) std::swap(local_.component<ParticleId>().values, view.template write<ParticleId>().values);
+      if (images_) std::swap(local_.component<ImageCount<D>>().values, view.template write<ImageCount<D>>().values);
+      local_.resize(n);
+      view.release();
+      finish_scatter(view);
+      return;
+    }
     std::vector<double> mine;
     for (std::size_t i = 0; i < x.size(); ++i) {
       if (slab_.owner(x[i][axis_]) != slab_.rank) continue;
@@ -373,10 +395,17 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
         for (int a = 0; a < D; ++a) mine.push_back(view.template read<ImageCount<D>>()[i][a]);
     }
     append(mine, 0);
+    finish_scatter(view);
+  }
+  void finish_scatter(View view) {
     local_.resource<Clock>() = view.template read<Clock>();
     scattered_ = true;
-    // Only rank 0 observes and writes: the others need the whole no more.
-    if (ranks_.rank() > 0) view.release();
+    // Only rank 0 observes and writes: the others need the whole no more,
+    // neither its particles nor its grid's arrays.
+    if (ranks_.rank() > 0) {
+      view.release();
+      view.template write<SrdCells<D>>().release_arrays();
+    }
   }
 
   // The local columns, looked up once per pass rather than per particle.
@@ -909,6 +938,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   bool images_ = false;
   std::uint64_t reorder_interval_;
   bool scattered_ = false;
+  bool stepped_ = false;  // the slabs' cells have been reduced (else the initial state's are the World's)
   unsigned periodic_ = 0;  // bit a: axis a of the whole box wraps
   bool accounts_ = false;  // walls or the energy ledger: per-step sums over the ranks
   DomainBalance balance_;

@@ -178,11 +178,25 @@ inline RotationParameters rotation_from(const Config& c) {
           dissipation_from(c), c.real("shear.rate") > 0.0};
 }
 
+// The axis the slabs of a run over ranks lie along: a periodic one, the
+// one with the most cells (the last of equals: the slowest index); walls
+// then span every slab. Under shear, the last axis: the Lees-Edwards planes
+// across y shift particles and cells along x, so x is never split; in 3D z
+// keeps the planes inside every slab, in 2D they lie at the slabs'
+// periodic edge. -1 where every axis has walls.
+template <int D>
+int slab_axis_of(const std::array<std::int32_t, D>& cells, const std::array<bool, D>& periodic, double shear_rate) {
+  int axis = -1;
+  for (int a = D - 1; a >= 0; --a)
+    if (periodic[a] && (axis < 0 || cells[a] > cells[axis])) axis = a;
+  return shear_rate > 0.0 ? D - 1 : axis;
+}
+
 // The step over MPI ranks (srd_domain_step.hpp), for what it offers so far:
 // a periodic fluid without a body force, a thermostat or Lees-Edwards planes,
 // on the CPU; the rest is refused, naming what to change.
 template <int D>
-void add_domain_step(Run& run, const SrdCells<D>& state, const BodyForce<D>& force, bool walled) {
+void add_domain_step(Run& run, const SrdCells<D>& state, const BodyForce<D>& force, bool walled, bool by_slab) {
   const Config& c = run.config();
   const int ranks = run.communicator()->size();
   const auto refuse = [&](const std::string& what) {
@@ -192,15 +206,9 @@ void add_domain_step(Run& run, const SrdCells<D>& state, const BodyForce<D>& for
   };
   if (c.text("srd.device") != "cpu") refuse(fmt::format("srd.device = \"{}\"", c.text("srd.device")));
   const double rate = c.real("shear.rate");
-  // The slabs lie along a periodic axis, the one with the most cells (the
-  // last of equals: the slowest index); walls then span every slab. Under
-  // shear, along the last axis: the Lees-Edwards planes across y shift
-  // particles and cells along x, so x is never split; in 3D z keeps the
-  // planes inside every slab, in 2D they lie at the slabs' periodic edge.
-  int axis = -1;
-  for (int a = D - 1; a >= 0; --a)
-    if (!(state.bounded & (1u << a)) && (axis < 0 || state.cells[a] > state.cells[axis])) axis = a;
-  if (rate > 0.0) axis = D - 1;
+  std::array<bool, D> periodic{};
+  for (int a = 0; a < D; ++a) periodic[a] = !(state.bounded & (1u << a));
+  const int axis = slab_axis_of<D>(state.cells, periodic, rate);
   if (axis < 0)
     throw ConfigError(fmt::format("an SRD fluid with walls across every axis cannot be split over {} ranks: the slabs "
                                   "need one periodic axis; run it without mpirun",
@@ -214,6 +222,7 @@ void add_domain_step(Run& run, const SrdCells<D>& state, const BodyForce<D>& for
   physics.shear_rate = rate;
   physics.thermostat_temperature = c.real("thermostat.temperature");
   physics.remove_drift = !walled;  // as on one rank: walls fix the frame
+  physics.started_by_slab = by_slab;
   DomainBalance balance{c.integer("balance.every_steps"), c.real("balance.threshold"), c.real("balance.cell_weight"),
                         std::make_shared<SlabBounds>()};
   run.keep("slab_bounds", *balance.kept);
@@ -249,8 +258,14 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = 
   // Particle frames follow ids given in the order of the initial state
   // (a stored one's order), before the binning sorts the particles.
   const bool frames = c.schema().find("output.positions") && c.text("output.positions") != "none";
+  // Over ranks a generated fluid is made by slab; a stored one is read
+  // whole, and a resumed run's World comes whole from its checkpoint.
+  const bool on_ranks = run.communicator() && run.communicator()->size() > 1;
+  const int by_slab_axis = slab_axis_of<D>(cells, periodic, rate);
+  bool by_slab = false;
   run.initial_state([&](World& world) {
-    world.resize(n);
+    by_slab = on_ranks && by_slab_axis >= 0 && !starts_from_stored_state(c);
+    world.resize(by_slab ? 0 : n);
     auto& x = world.add_component<Position<D>>();
     auto& v = world.add_component<Velocity<D>>();
     if (frames) {
@@ -265,32 +280,76 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = 
       SrdCellBinning<D>::sort(world, unshifted);
       return;
     }
-    Vec<D> mean = Vec<D>::Zero();
-    for (std::size_t i = 0; i < n; ++i) {
+    // Particle i from its own random numbers: the same particles on any
+    // number of ranks, each rank keeping those of its slab.
+    const auto particle = [&](std::size_t i, Vec<D>& xi, Vec<D>& vi) {
       Philox random(stream::srd_initial, run.seed(), 0, i);
-      for (int a = 0; a < D; ++a) x[i][a] = random.uniform() * cells[a];
-      for (int a = 0; a < D; ++a) v[i][a] = std::sqrt(temperature) * random.normal();
-      mean += v[i];
+      for (int a = 0; a < D; ++a) xi[a] = random.uniform() * cells[a];
+      for (int a = 0; a < D; ++a) vi[a] = std::sqrt(temperature) * random.normal();
+    };
+    // The profile the Lees-Edwards planes drive, so the run starts near its steady state.
+    const auto start_velocity = [&](const Vec<D>& xi, Vec<D>& vi, const Vec<D>& mean) {
+      vi -= mean;
+      if (rate > 0.0) vi[0] += rate * (xi[1] - 0.5 * cells[1]);
+    };
+    Vec<D> mean = Vec<D>::Zero();
+    if (by_slab) {
+      // Over ranks each rank holds only its slab's particles from the
+      // start (the whole system never fits one rank's memory where ranks
+      // are needed for it): every rank draws all of them, once for the mean
+      // velocity, added in the same order as on one rank, and once to keep
+      // its own. Their order after the sort below is the whole system's
+      // order, restricted to the slab.
+      constexpr const char* axis_names[3] = {"x", "y", "z"};
+      const SlabDomain slab(run.communicator()->rank(), run.communicator()->size(), cells[by_slab_axis],
+                            axis_names[by_slab_axis]);
+      Vec<D> xi, vi;
+      for (std::size_t i = 0; i < n; ++i) {
+        particle(i, xi, vi);
+        mean += vi;
+      }
+      mean /= static_cast<double>(n);
+      std::vector<std::uint32_t> own;
+      for (std::size_t i = 0; i < n; ++i) {
+        particle(i, xi, vi);
+        if (slab.owner(xi[by_slab_axis]) == slab.rank) own.push_back(static_cast<std::uint32_t>(i));
+      }
+      world.resize(own.size());
+      for (std::size_t k = 0; k < own.size(); ++k) {
+        particle(own[k], x[k], v[k]);
+        start_velocity(x[k], v[k], mean);
+      }
+      if (frames) {
+        auto& id = world.component<ParticleId>().values;
+        std::copy(own.begin(), own.end(), id.begin());
+      }
+    } else {
+      for (std::size_t i = 0; i < n; ++i) {
+        particle(i, x[i], v[i]);
+        mean += v[i];
+      }
+      mean /= static_cast<double>(n);
+      for (std::size_t i = 0; i < n; ++i) start_velocity(x[i], v[i], mean);
     }
-    mean /= static_cast<double>(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      v[i] -= mean;
-      // The profile the Lees-Edwards planes drive, so the run starts near its steady state.
-      if (rate > 0.0) v[i][0] += rate * (x[i][1] - 0.5 * cells[1]);
-    }
-    SrdCells<D> unshifted(cells, n);
+    SrdCells<D> unshifted(cells, world.size());
     SrdCellBinning<D>::sort(world, unshifted);
   });
   // The cells of the current state, so that observers at the start see them.
   const bool walled = !walls.empty();
-  auto& state = run.world().template emplace_resource<SrdCells<D>>(cells, n, std::move(walls));
+  auto& state = run.world().template emplace_resource<SrdCells<D>>(cells, run.world().size(), std::move(walls));
   state.ghost_fill = static_cast<double>(c.integer("srd.particles_per_cell"));
   state.seed = run.seed();
   SrdStreaming<D>::set_shear(state, rate, run.world().template resource<Clock>().time);
   state.record_moments = rate > 0.0;
   state.record_energy = record_energy;
-  SrdCellBinning<D>::assign(run.world().template component<Position<D>>(), state);
-  SrdCellReduction<D>::reduce(run.world(), state);
+  if (by_slab) {
+    // Rank 0's first gather makes the whole system's cells; the other ranks
+    // keep the grid only to describe it.
+    if (run.communicator()->rank() > 0) state.release_arrays();
+  } else {
+    SrdCellBinning<D>::assign(run.world().template component<Position<D>>(), state);
+    SrdCellReduction<D>::reduce(run.world(), state);
+  }
   std::vector<double> edges(cells.begin(), cells.end());
   std::vector<std::string> boundary;
   for (int a = 0; a < D; ++a) boundary.push_back(state.bounded & (1u << a) ? "none" : "periodic");
@@ -302,7 +361,7 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = 
                             : reorder_interval_for(std::sqrt(hottest) * dt);
   run.derive("reorder_interval", static_cast<double>(interval));
   if (run.communicator() && run.communicator()->size() > 1) {
-    add_domain_step<D>(run, state, force, walled);
+    add_domain_step<D>(run, state, force, walled, by_slab);
   } else if (c.text("srd.device") != "cpu") {
     add_device_step<D>(run, state, n, force, interval, walled);
   } else {
