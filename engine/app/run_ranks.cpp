@@ -183,6 +183,34 @@ class MpiCommunicator final : public Communicator {
     return all;
   }
 
+  std::vector<std::int64_t> counts_on_first(std::int64_t mine) const override {
+    long long count = mine;
+    std::vector<long long> counts(rank_ == 0 ? static_cast<std::size_t>(size_) : 0);
+    MPI_Gather(&count, 1, MPI_LONG_LONG, counts.data(), 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+    return {counts.begin(), counts.end()};
+  }
+  // One element is `width` doubles (an MPI type of its own), so that the
+  // counts and offsets, ints in MPI, count elements, not values.
+  void gather_to_first(const double* mine, std::size_t elements, std::size_t width, double* all) const override {
+    const std::vector<std::int64_t> counts = counts_on_first(static_cast<std::int64_t>(elements));
+    std::int64_t total = 0;
+    std::vector<int> sizes, offsets;
+    for (const std::int64_t c : counts) {
+      offsets.push_back(static_cast<int>(std::min<std::int64_t>(total, INT_MAX)));
+      sizes.push_back(static_cast<int>(c));
+      total += c;
+    }
+    int fits = total <= INT_MAX ? 1 : 0;
+    MPI_Bcast(&fits, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (!fits) throw std::runtime_error("more than 2^31 particles to gather for output on rank 0");
+    MPI_Datatype element;
+    MPI_Type_contiguous(static_cast<int>(width), MPI_DOUBLE, &element);
+    MPI_Type_commit(&element);
+    MPI_Gatherv(mine, static_cast<int>(elements), element, all, sizes.data(), offsets.data(), element, 0,
+                MPI_COMM_WORLD);
+    MPI_Type_free(&element);
+  }
+
   std::vector<double> values_from_first(const std::vector<double>& values) const override {
     long long count = static_cast<long long>(values.size());
     MPI_Bcast(&count, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);

@@ -9,6 +9,7 @@
 // sees first (a signal, the wall clock), it is agreed through these calls
 // before any rank acts on it.
 
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
@@ -61,6 +62,21 @@ class Communicator {
     std::vector<double> all = gather_all(mine);
     if (rank() != 0) all.clear();
     return all;
+  }
+  // The same for one column without a copy: every rank's `elements`
+  // elements of `width` values at `mine` into `all` on rank 0, which holds
+  // room for the total that counts_on_first told it (`all` is not read
+  // elsewhere). A column of up to 2^31 elements of any width.
+  virtual std::vector<std::int64_t> counts_on_first(std::int64_t mine) const {
+    const std::vector<double> all = gather_all({static_cast<double>(mine)});
+    std::vector<std::int64_t> counts;
+    if (rank() == 0)
+      for (const double c : all) counts.push_back(static_cast<std::int64_t>(c));
+    return counts;
+  }
+  virtual void gather_to_first(const double* mine, std::size_t elements, std::size_t width, double* all) const {
+    const std::vector<double> gathered = gather_all(std::vector<double>(mine, mine + elements * width));
+    if (rank() == 0) std::copy(gathered.begin(), gathered.end(), all);
   }
   virtual std::int64_t sum(std::int64_t value) const = 0;
   // Rank 0's value on every rank.

@@ -58,6 +58,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "components/clock.hpp"
@@ -242,28 +243,51 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   void synchronise_host(World& whole) override {
     if (host_current_) return;
     if (!scattered_) scatter(View(whole));
-    std::vector<double> mine;
-    mine.reserve(local_.size() * width());
-    const Columns c = columns();
-    for (std::size_t i = 0; i < local_.size(); ++i) pack(c, i, mine, 0.0);
-    std::vector<double> all;
-    timed(7, [&] { all = ranks_.gather_to_first(mine); });
-    mine = {};
+    // Column by column, straight from the rank's columns into rank 0's: no
+    // rank packs a copy of its particles, and rank 0 none of the whole.
+    const std::size_t own = local_.size();
+    const bool first = ranks_.rank() == 0;
+    std::size_t n = 0;
+    timed(7, [&] {
+      for (const std::int64_t count : ranks_.counts_on_first(static_cast<std::int64_t>(own)))
+        n += static_cast<std::size_t>(count);
+    });
+    if (first) whole.resize(n);
+    const auto gather = [&](const double* mine, std::size_t width, double* all) {
+      timed(7, [&] { ranks_.gather_to_first(mine, own, width, all); });
+    };
+    // Integer columns travel as doubles (exact below 2^53).
+    const auto gather_integers = [&](const auto* mine, std::size_t width, auto* all) {
+      const std::vector<double> values(mine, mine + own * width);
+      std::vector<double> gathered(first ? n * width : 0);
+      gather(values.data(), width, gathered.data());
+      using Integer = std::remove_pointer_t<decltype(all)>;
+      for (std::size_t k = 0; k < gathered.size(); ++k) all[k] = static_cast<Integer>(gathered[k]);
+    };
+    // A column's values (null where it is empty, or where `world` is the
+    // whole system on a rank that receives nothing).
+    const auto values_of = [&](World& world, auto tag) {
+      using C = typename decltype(tag)::type;
+      auto& values = world.component<C>().values;
+      using Scalar = std::remove_pointer_t<decltype(values.data()->data())>;
+      return values.empty() || (&world == &whole && !first) ? static_cast<Scalar*>(nullptr) : values.data()->data();
+    };
+    gather(values_of(local_, std::type_identity<Position<D>>{}), D, values_of(whole, std::type_identity<Position<D>>{}));
+    gather(values_of(local_, std::type_identity<Velocity<D>>{}), D, values_of(whole, std::type_identity<Velocity<D>>{}));
+    if (ids_) {
+      auto& mine = local_.component<ParticleId>().values;
+      auto& all = whole.component<ParticleId>().values;
+      gather_integers(mine.data(), 1, first ? all.data() : nullptr);
+    }
+    if (images_) gather_integers(values_of(local_, std::type_identity<ImageCount<D>>{}), D, values_of(whole, std::type_identity<ImageCount<D>>{}));
     const auto clamped = ranks_.sum(static_cast<std::int64_t>(local_.resource<SrdCells<D>>().clamped_cells));
-    if (ranks_.rank() > 0) {
+    if (!first) {
       if (stepped_) gather_cells(nullptr);
       host_current_ = true;
       return;
     }
-    const std::size_t n = all.size() / width();
-    whole.resize(n);
     auto& x = whole.component<Position<D>>();
-    auto& v = whole.component<Velocity<D>>();
-    ParticleId* id = ids_ ? &whole.component<ParticleId>() : nullptr;
-    ImageCount<D>* image = images_ ? &whole.component<ImageCount<D>>() : nullptr;
-    for (std::size_t i = 0; i < n; ++i) unpack(all.data() + i * width(), x[i], v[i], id, image, i);
     auto& cells = whole.resource<SrdCells<D>>();
-    all = {};
     SrdCellBinning<D>::assign(x, cells);
     // Before the first step the cells are the initial state's, from the
     // whole system as on one rank (the slabs have reduced none yet).
