@@ -133,6 +133,18 @@ void Run::run_observers(Due&& due) {
   if (on_ranks) share_observers_outcome();
 }
 
+namespace {
+// A text as values of a broadcast, one character each, and back.
+void append_text(std::vector<double>& values, const std::string& text) {
+  for (const char c : text) values.push_back(static_cast<unsigned char>(c));
+}
+std::string text_of(std::vector<double>::const_iterator first, std::size_t length) {
+  std::string text;
+  for (std::size_t k = 0; k < length; ++k) text.push_back(static_cast<char>(static_cast<unsigned char>(first[k])));
+  return text;
+}
+}  // namespace
+
 bool Run::observes() const { return !communicator_ || communicator_->size() < 2 || communicator_->rank() == 0; }
 
 // One message from rank 0: [stop, failed, reason's length, its characters,
@@ -142,7 +154,7 @@ void Run::share_observers_outcome() {
   std::vector<double> message;
   if (communicator_->rank() == 0) {
     message = {control.stop ? 1.0 : 0.0, control.failed ? 1.0 : 0.0, static_cast<double>(control.reason.size())};
-    for (const char c : control.reason) message.push_back(static_cast<unsigned char>(c));
+    append_text(message, control.reason);
     for (const auto& system : steps_.systems()) {
       const std::vector<double> asked = system->observers_requests(world_);
       message.push_back(static_cast<double>(asked.size()));
@@ -154,8 +166,7 @@ void Run::share_observers_outcome() {
   control.stop = message[0] != 0.0;
   control.failed = message[1] != 0.0;
   const auto length = static_cast<std::size_t>(message[2]);
-  control.reason.clear();
-  for (std::size_t k = 0; k < length; ++k) control.reason.push_back(static_cast<char>(static_cast<unsigned char>(message[3 + k])));
+  control.reason = text_of(message.begin() + 3, length);
   std::size_t at = 3 + length;
   for (const auto& system : steps_.systems()) {
     const auto count = static_cast<std::size_t>(message[at]);
@@ -173,13 +184,10 @@ std::optional<std::string> Run::stop_criterion_met() {
       if ((met = criterion())) break;
   if (!communicator_ || communicator_->size() < 2) return met;
   std::vector<double> message;
-  if (met)
-    for (const char c : *met) message.push_back(static_cast<unsigned char>(c));
+  if (met) append_text(message, *met);
   if (!communicator_->from_first(met.has_value())) return std::nullopt;
   message = communicator_->values_from_first(message);
-  std::string reason;
-  for (const double c : message) reason.push_back(static_cast<char>(static_cast<unsigned char>(c)));
-  return reason;
+  return text_of(message.begin(), message.size());
 }
 
 // Observers whose trigger is due at the clock run; at a stop, so do those

@@ -272,14 +272,17 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
       using Scalar = std::remove_pointer_t<decltype(values.data()->data())>;
       return values.empty() || (&world == &whole && !first) ? static_cast<Scalar*>(nullptr) : values.data()->data();
     };
-    gather(values_of(local_, std::type_identity<Position<D>>{}), D, values_of(whole, std::type_identity<Position<D>>{}));
-    gather(values_of(local_, std::type_identity<Velocity<D>>{}), D, values_of(whole, std::type_identity<Velocity<D>>{}));
+    constexpr std::type_identity<Position<D>> positions{};
+    constexpr std::type_identity<Velocity<D>> velocities{};
+    constexpr std::type_identity<ImageCount<D>> images{};
+    gather(values_of(local_, positions), D, values_of(whole, positions));
+    gather(values_of(local_, velocities), D, values_of(whole, velocities));
     if (ids_) {
       auto& mine = local_.component<ParticleId>().values;
       auto& all = whole.component<ParticleId>().values;
       gather_integers(mine.data(), 1, first ? all.data() : nullptr);
     }
-    if (images_) gather_integers(values_of(local_, std::type_identity<ImageCount<D>>{}), D, values_of(whole, std::type_identity<ImageCount<D>>{}));
+    if (images_) gather_integers(values_of(local_, images), D, values_of(whole, images));
     const auto clamped = ranks_.sum(static_cast<std::int64_t>(local_.resource<SrdCells<D>>().clamped_cells));
     if (!first) {
       if (stepped_) gather_cells(nullptr);
