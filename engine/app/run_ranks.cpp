@@ -162,52 +162,50 @@ class MpiCommunicator final : public Communicator {
   }
 
   std::vector<double> gather_to_first(const std::vector<double>& mine) const override {
-    const long long count = static_cast<long long>(mine.size());
-    std::vector<long long> counts(rank_ == 0 ? static_cast<std::size_t>(size_) : 0);
-    MPI_Gather(&count, 1, MPI_LONG_LONG, counts.data(), 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
-    long long total = 0;
-    std::vector<int> sizes, offsets;
-    for (const long long c : counts) {
-      offsets.push_back(static_cast<int>(std::min<long long>(total, INT_MAX)));
-      sizes.push_back(static_cast<int>(c));
-      total += c;
-    }
-    // Every rank learns whether rank 0 can take it all, so that all refuse together.
-    int fits = total <= INT_MAX ? 1 : 0;
-    MPI_Bcast(&fits, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    if (!fits)
-      throw std::runtime_error("the state to gather for output exceeds one MPI message (2^31 values) on rank 0");
-    std::vector<double> all(static_cast<std::size_t>(total));
-    MPI_Gatherv(mine.data(), static_cast<int>(count), MPI_DOUBLE, all.data(), sizes.data(), offsets.data(),
-                MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    const Layout layout = layout_on_first(static_cast<std::int64_t>(mine.size()));
+    std::vector<double> all(layout.total);
+    gather_elements(mine.data(), mine.size(), 1, all.data(), layout);
     return all;
   }
-
   std::vector<std::int64_t> counts_on_first(std::int64_t mine) const override {
     long long count = mine;
     std::vector<long long> counts(rank_ == 0 ? static_cast<std::size_t>(size_) : 0);
     MPI_Gather(&count, 1, MPI_LONG_LONG, counts.data(), 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
     return {counts.begin(), counts.end()};
   }
-  // One element is `width` doubles (an MPI type of its own), so that the
-  // counts and offsets, ints in MPI, count elements, not values.
   void gather_to_first(const double* mine, std::size_t elements, std::size_t width, double* all) const override {
-    const std::vector<std::int64_t> counts = counts_on_first(static_cast<std::int64_t>(elements));
-    std::int64_t total = 0;
+    gather_elements(mine, elements, width, all, layout_on_first(static_cast<std::int64_t>(elements)));
+  }
+
+  // Where rank 0 receives each rank's elements. MPI counts them in ints:
+  // every rank learns whether the total fits, so that all refuse together.
+  struct Layout {
     std::vector<int> sizes, offsets;
-    for (const std::int64_t c : counts) {
-      offsets.push_back(static_cast<int>(std::min<std::int64_t>(total, INT_MAX)));
-      sizes.push_back(static_cast<int>(c));
-      total += c;
+    std::size_t total = 0;
+  };
+  Layout layout_on_first(std::int64_t elements) const {
+    Layout layout;
+    std::int64_t total = 0;
+    for (const std::int64_t count : counts_on_first(elements)) {
+      layout.offsets.push_back(static_cast<int>(std::min<std::int64_t>(total, INT_MAX)));
+      layout.sizes.push_back(static_cast<int>(count));
+      total += count;
     }
     int fits = total <= INT_MAX ? 1 : 0;
     MPI_Bcast(&fits, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    if (!fits) throw std::runtime_error("more than 2^31 particles to gather for output on rank 0");
+    if (!fits) throw std::runtime_error("more than 2^31 elements to gather for output on rank 0");
+    layout.total = static_cast<std::size_t>(total);
+    return layout;
+  }
+  // One element is `width` doubles (an MPI type of its own), so that the
+  // counts and offsets count elements, not values.
+  static void gather_elements(const double* mine, std::size_t elements, std::size_t width, double* all,
+                              const Layout& layout) {
     MPI_Datatype element;
     MPI_Type_contiguous(static_cast<int>(width), MPI_DOUBLE, &element);
     MPI_Type_commit(&element);
-    MPI_Gatherv(mine, static_cast<int>(elements), element, all, sizes.data(), offsets.data(), element, 0,
-                MPI_COMM_WORLD);
+    MPI_Gatherv(mine, static_cast<int>(elements), element, all, layout.sizes.data(), layout.offsets.data(), element,
+                0, MPI_COMM_WORLD);
     MPI_Type_free(&element);
   }
 

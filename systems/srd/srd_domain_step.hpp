@@ -238,8 +238,8 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     host_current_ = false;
   }
 
-  // Every rank's particles into the whole World, on every rank, and the
-  // whole grid's cells from them.
+  // Every rank's particles into the whole World on rank 0, and the whole
+  // grid's cells from them.
   void synchronise_host(World& whole) override {
     if (host_current_) return;
     if (!scattered_) scatter(View(whole));
@@ -264,25 +264,11 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
       using Integer = std::remove_pointer_t<decltype(all)>;
       for (std::size_t k = 0; k < gathered.size(); ++k) all[k] = static_cast<Integer>(gathered[k]);
     };
-    // A column's values (null where it is empty, or where `world` is the
-    // whole system on a rank that receives nothing).
-    const auto values_of = [&](World& world, auto tag) {
-      using C = typename decltype(tag)::type;
-      auto& values = world.component<C>().values;
-      using Scalar = std::remove_pointer_t<decltype(values.data()->data())>;
-      return values.empty() || (&world == &whole && !first) ? static_cast<Scalar*>(nullptr) : values.data()->data();
-    };
-    constexpr std::type_identity<Position<D>> positions{};
-    constexpr std::type_identity<Velocity<D>> velocities{};
-    constexpr std::type_identity<ImageCount<D>> images{};
-    gather(values_of(local_, positions), D, values_of(whole, positions));
-    gather(values_of(local_, velocities), D, values_of(whole, velocities));
-    if (ids_) {
-      auto& mine = local_.component<ParticleId>().values;
-      auto& all = whole.component<ParticleId>().values;
-      gather_integers(mine.data(), 1, first ? all.data() : nullptr);
-    }
-    if (images_) gather_integers(values_of(local_, images), D, values_of(whole, images));
+    gather(values_of<Position<D>>(local_), D, first ? values_of<Position<D>>(whole) : nullptr);
+    gather(values_of<Velocity<D>>(local_), D, first ? values_of<Velocity<D>>(whole) : nullptr);
+    if (ids_) gather_integers(values_of<ParticleId>(local_), 1, first ? values_of<ParticleId>(whole) : nullptr);
+    if (images_)
+      gather_integers(values_of<ImageCount<D>>(local_), D, first ? values_of<ImageCount<D>>(whole) : nullptr);
     const auto clamped = ranks_.sum(static_cast<std::int64_t>(local_.resource<SrdCells<D>>().clamped_cells));
     if (!first) {
       if (stepped_) gather_cells(nullptr);
@@ -346,6 +332,19 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   }
 
   std::size_t width() const { return 2 * D + (ids_ ? 1 : 0) + (images_ ? D : 0); }
+
+  // Column C's values as scalars: its first element's, null where it is empty.
+  template <class C>
+  static auto* values_of(World& world) {
+    auto& values = world.component<C>().values;
+    using Scalar = std::remove_pointer_t<decltype(scalars(values.data()))>;
+    return values.empty() ? static_cast<Scalar*>(nullptr) : scalars(values.data());
+  }
+  template <class T>
+  static auto* scalars(T* first) {
+    if constexpr (std::is_arithmetic_v<T>) return first;
+    else return first->data();
+  }
 
   // Whether local cell c is this rank's: its lower edge along the slab axis
   // lies in the slab. Each cell is one rank's; a straddling one is whole on
