@@ -92,6 +92,11 @@ void Schedule::run(World& world, const std::vector<bool>& enabled) {
   enabled_ = nullptr;
 }
 
+void Schedule::run_in_order(World& world, const std::vector<bool>& enabled) {
+  for (std::size_t k = 0; k < systems_.size(); ++k)
+    if (enabled[k]) run_one(k, world);
+}
+
 std::vector<std::pair<std::size_t, std::size_t>> Schedule::edges() const {
   if (!graph_) build();
   return graph_->edges;

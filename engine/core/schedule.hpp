@@ -38,6 +38,10 @@ class Schedule {
   // Runs the systems whose `enabled` entry is true (in graph order); the
   // others are skipped and not counted.
   void run(World& world, const std::vector<bool>& enabled);
+  // The same one system at a time, in the order they were added: for systems
+  // that make collective calls (observers over MPI ranks), which every rank
+  // must make in one order.
+  void run_in_order(World& world, const std::vector<bool>& enabled);
 
   // (earlier, later) index pairs of the derived edges, after transitive reduction.
   std::vector<std::pair<std::size_t, std::size_t>> edges() const;

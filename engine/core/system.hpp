@@ -33,12 +33,25 @@ class System {
   // an asynchronous launch says nothing. Added to the /profile table.
   virtual std::vector<ProfileEntry> device_profile() const { return {}; }
 
-  // Over MPI ranks the observers run on rank 0 alone (the others hold only
-  // their part of the system). What they asked of a step system in the
-  // World (sums it should compute every step) goes to the other ranks as
-  // rank 0's `observers_requests`, which they `adopt_observers_requests`.
+  // Over MPI ranks the observers run on rank 0 alone where it gathered the
+  // whole system (the others hold only their part of it). What they asked
+  // of a step system in the World (sums it should compute every step) goes
+  // to the other ranks as rank 0's `observers_requests`, which they
+  // `adopt_observers_requests`.
   virtual std::vector<double> observers_requests(const World&) const { return {}; }
   virtual void adopt_observers_requests(World&, const std::vector<double>&) {}
+
+  // Unless every observer of a round can run on each rank over the rank's
+  // own particles: one that says so totals its sums over the ranks through
+  // View::part() (engine/core/observed_part.hpp), and writes only where
+  // part().writes(). Such a round gathers nothing.
+  virtual bool observes_by_rank() const { return false; }
+  // For a step system spread over ranks: put this rank's own particles, and
+  // this step's cells of its grid, into the World for such a round (false:
+  // it cannot now, and the round gathers onto rank 0); take_back_part
+  // returns them to the step afterwards. Collective.
+  virtual bool lend_part(World&) { return false; }
+  virtual void take_back_part(World&) {}
 };
 
 }  // namespace granflow

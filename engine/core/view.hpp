@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "engine/core/access.hpp"
+#include "engine/core/observed_part.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/world.hpp"
 
@@ -96,6 +97,12 @@ class View<Reads<R...>, Writes<W...>> {
   // name (Access::writes_observable), not by type, and the store checks
   // nothing; the columns and resources are what the view guards.
   ObservableStore& observables() const { return world_.template resource<ObservableStore>(); }
+  // The part of the system the World holds (engine/core/observed_part.hpp):
+  // an observer that runs by rank totals its sums through it.
+  const ObservedPart& part() const {
+    static const ObservedPart whole;
+    return world_.template has_resource<ObservedPart>() ? world_.template resource<ObservedPart>() : whole;
+  }
 
  private:
   template <class T, class... L>

@@ -209,6 +209,8 @@ class World {
   }
   void on_permute(PermutationListener listener) { permutation_listeners_.push_back(std::move(listener)); }
 
+  std::size_t column_count() const { return components_.size(); }
+
   std::size_t component_bytes_per_entity() const {
     std::size_t bytes = 0;
     for (const auto& [type, entry] : components_) bytes += entry.column->bytes_per_entity();

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "engine/core/observed_part.hpp"
 #include "engine/io/particle_output.hpp"
 
 namespace granflow {
@@ -128,9 +129,40 @@ void Run::run_observers(Due&& due) {
     reads_device = enabled_[k] && observers[k]->reads_device_state(world_);
   const bool on_ranks = communicator_ && communicator_->size() > 1;
   if (on_ranks) reads_device = communicator_->from_first(reads_device);
+  if (on_ranks && observe_by_rank(reads_device)) {
+    share_observers_outcome();
+    return;
+  }
   if (reads_device) synchronise_host();
   if (observes()) observers_.run(world_, enabled_);
   if (on_ranks) share_observers_outcome();
+}
+
+// Where every enabled observer can run by rank, each rank observes its own
+// particles, which the step lends to the World (ObservedPart says which),
+// and no rank gathers the whole. The observers run one at a time, so that
+// their collective calls come in one order on every rank. The ranks see
+// the same totals and so decide alike; rank 0's decisions are shared all
+// the same, as where it alone observes.
+bool Run::observe_by_rank(bool reads_particles) {
+  const auto& observers = observers_.systems();
+  for (std::size_t k = 0; k + 1 < observers.size(); ++k)
+    if (enabled_[k] && !observers[k]->observes_by_rank()) return false;
+  System* lending = nullptr;
+  if (reads_particles) {
+    for (const auto& system : steps_.systems())
+      if (system->lend_part(world_)) {
+        lending = system.get();
+        break;
+      }
+    if (!lending) return false;
+  }
+  observers_.run_in_order(world_, enabled_);
+  if (lending) {
+    world_.emplace_resource<ObservedPart>();
+    lending->take_back_part(world_);
+  }
+  return true;
 }
 
 namespace {
@@ -277,7 +309,8 @@ double Run::progress_fraction() const {
 }
 
 void Run::write_results(const RunOutcome& outcome) {
-  synchronise_host();
+  const bool on_ranks = communicator_ && communicator_->size() > 1;
+  if (!on_ranks || finish_reads_particles_ || world_.has_component<Mass>()) synchronise_host();
   for (const auto& system : steps_.systems())
     for (const ProfileEntry& entry : system->device_profile()) profiler_.record_device(entry);
   if (!file_) return;

@@ -125,6 +125,12 @@ class Run {
   Preparation preparation(const std::string& phase) const { return {phase, setup_progress_, interrupt_}; }
   // Output written when the run ends (histograms, totals, a log line); single runs only.
   void at_finish(std::function<void(H5mdFile&, const RunOutcome&)> hook) { finish_hooks_.push_back(std::move(hook)); }
+  // One that reads the World's particles or cells: over ranks the whole
+  // system is then gathered onto rank 0 for it (else it is not, at the end).
+  void at_finish_reading_particles(std::function<void(H5mdFile&, const RunOutcome&)> hook) {
+    finish_reads_particles_ = true;
+    at_finish(std::move(hook));
+  }
 
   // --- what the Runner uses -------------------------------------------
   // After the scenario's build: creates the observable slots and the
@@ -159,6 +165,7 @@ class Run {
   // Over ranks: rank 0's outcome of its observers (stop, failure, reason,
   // and what they asked of the step systems) on every rank.
   void share_observers_outcome();
+  bool observe_by_rank(bool reads_particles);
   // The first stop criterion met, decided by rank 0 over ranks.
   std::optional<std::string> stop_criterion_met();
 
@@ -188,6 +195,7 @@ class Run {
   std::vector<double> box_edges_;
   std::vector<std::string> box_boundary_;
   std::vector<std::function<void(H5mdFile&, const RunOutcome&)>> finish_hooks_;
+  bool finish_reads_particles_ = false;
   std::function<void(const std::string&, double)> setup_progress_;
   const std::atomic<bool>* interrupt_ = nullptr;
   const Communicator* communicator_ = nullptr;

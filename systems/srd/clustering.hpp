@@ -15,10 +15,13 @@
 //                           particle picked at random among those in clusters
 //   cluster_size_distribution  clusters of 2^b to 2^(b+1) - 1 particles, b = 0, 1, ...
 // The counts and the sums run in a fixed order; the transform's lines are
-// independent, so the values do not depend on the thread count.
+// independent, so the values do not depend on the thread count. Over ranks
+// the count field is put together on the writing rank, which alone
+// analyses it (and sets these observables).
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <complex>
@@ -187,21 +190,33 @@ class ClusteringObserver : public SystemOf<Reads<Position<D>>, Writes<>> {
         .writes_observable("cluster_size_distribution", unit::none);
   }
 
+  // Each rank counts its particles on its layers of cells; the writing rank
+  // puts the whole count field together and analyses it alone.
+  bool observes_by_rank() const override { return true; }
+
   void run_on(View view) override {
     const auto& x = view.template read<Position<D>>();
     const std::size_t n = view.size();
-    std::vector<double> counts(grid_.size(), 0.0);
+    const ObservedPart& part = view.part();
+    CellGridShape<D> mine = grid_;
+    const int axis = part.axis();
+    const std::int64_t low = part.layer_low();
+    mine.cells[axis] = static_cast<std::int32_t>(part.layer_high(grid_.cells[axis]) - low);
+    std::vector<double> counts(mine.size(), 0.0);
     for (std::size_t i = 0; i < n; ++i) {
       std::size_t c = 0;
       for (int a = 0; a < D; ++a) {
         const auto length = grid_.cells[a];
         auto index = static_cast<std::int64_t>(std::floor(x[i][a]));
         index = ((index % length) + length) % length;
-        c += static_cast<std::size_t>(index) * grid_.stride(a);
+        if (a == axis) index = std::clamp<std::int64_t>(index - low, 0, mine.cells[a] - 1);
+        c += static_cast<std::size_t>(index) * mine.stride(a);
       }
       counts[c] += 1.0;
     }
-    const auto particles = static_cast<double>(n);
+    const auto particles = part.total(static_cast<double>(n));
+    counts = part.whole_field(counts, std::vector<std::int32_t>(grid_.cells.begin(), grid_.cells.end()), 1);
+    if (!part.writes()) return;
     const StructureFactor s = shell_structure_factor<D>(grid_, power_spectrum<D>(grid_, counts), particles);
     const std::vector<double> sizes = cluster_sizes<D>(grid_, counts, cut_);
     double largest = 0.0, sum = 0.0, squares = 0.0;

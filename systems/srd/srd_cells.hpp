@@ -117,7 +117,6 @@ struct SrdCells {
   // then spans the walls' whole motion and one layer beyond.
   SrdCells(std::array<std::int32_t, D> cells_per_axis, std::size_t particles, std::vector<Wall> box_walls = {})
       : cells(cells_per_axis), walls(std::move(box_walls)) {
-    std::size_t total = 1;
     for (int a = 0; a < D; ++a) length[a] = static_cast<double>(cells[a]);
     for (int a = 0; a < D; ++a) {
       double low = 0.0, high = 0.0;
@@ -134,6 +133,12 @@ struct SrdCells {
       cells[a] = static_cast<std::int32_t>(std::ceil(high) + 1.0 - origin[a]);
       bounded |= 1u << a;
     }
+    allocate_arrays(particles);
+  }
+  std::size_t cell_count() const { return mass.size(); }
+  // The grid's per-cell arrays, zeroed, and the particles' cell indices.
+  void allocate_arrays(std::size_t particles) {
+    std::size_t total = 1;
     for (int a = 0; a < D; ++a) total *= static_cast<std::size_t>(cells[a]);
     cell.resize(particles);
     start.assign(total + 1, 0);
@@ -145,9 +150,9 @@ struct SrdCells {
     transfer.assign(total, 0.0);
     if (!walls.empty()) ghosts.assign(total, 0);
   }
-  std::size_t cell_count() const { return mass.size(); }
   // Gives back the memory of every per-particle and per-cell array, keeping
-  // the geometry: on a rank that holds the whole grid only to describe it.
+  // the geometry: on a rank that holds the whole grid only to describe it
+  // (allocate_arrays makes them again).
   void release_arrays() {
     const auto release = [](auto& values) { std::remove_reference_t<decltype(values)>().swap(values); };
     release(cell), release(image), release(blocks), release(order), release(start), release(chunk_counts);
@@ -159,12 +164,25 @@ struct SrdCells {
   // of the whole grid it is, so that every rank draws what one rank would.
   // The part differs from the whole only along `axis`, where its layer k is
   // the whole grid's layer (k + first) mod whole_cells.
+  // The rank's own cells are those whose lower edge along `axis` lies in
+  // [own_low, own_high) (its slab): each cell is one rank's, a straddling
+  // one that of the rank below the boundary, which holds all its particles
+  // while it reduces it.
   struct PartOfWhole {
     int axis = -1;  // -1: this grid is the whole grid
     std::int64_t first = 0;
     std::int64_t whole_cells = 0;
+    std::int64_t own_low = 0, own_high = 0;
   };
   PartOfWhole part_of_whole;
+  // Whether cell c is this part's own (every cell of the whole grid is): what
+  // a sum over cells counts, so that the ranks' sums add to the whole's.
+  bool owns(std::size_t c) const {
+    const PartOfWhole& p = part_of_whole;
+    if (p.axis < 0) return true;
+    const double edge = origin[p.axis] + static_cast<double>(layer_of(c, p.axis)) - shift[p.axis];
+    return edge >= static_cast<double>(p.own_low) && edge < static_cast<double>(p.own_high);
+  }
   std::uint64_t cell_key(std::size_t c) const {
     const PartOfWhole& p = part_of_whole;
     if (p.axis < 0) return c;

@@ -67,6 +67,7 @@
 #include "components/position.hpp"
 #include "components/velocity.hpp"
 #include "engine/core/communicator.hpp"
+#include "engine/core/observed_part.hpp"
 #include "engine/core/phase_times.hpp"
 #include "engine/core/profiler.hpp"
 #include "engine/core/system.hpp"
@@ -178,7 +179,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     cells.seed = like.seed;
     cells.record_energy = like.record_energy;
     cells.record_moments = like.record_moments;
-    cells.part_of_whole = {axis_, low - 2, slab_.cells};
+    cells.part_of_whole = {axis_, low - 2, slab_.cells, low, slab_.high()};
     local_.emplace_resource<SrdCells<D>>(std::move(cells));
   }
 
@@ -277,6 +278,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     }
     auto& x = whole.component<Position<D>>();
     auto& cells = whole.resource<SrdCells<D>>();
+    if (cells.cell_count() == 0) cells.allocate_arrays(n);
     SrdCellBinning<D>::assign(x, cells);
     // Before the first step the cells are the initial state's, from the
     // whole system as on one rank (the slabs have reduced none yet).
@@ -284,6 +286,39 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     else SrdCellReduction<D>::reduce(whole, cells);
     cells.clamped_cells = static_cast<std::uint64_t>(clamped);
     host_current_ = true;
+  }
+
+  // This rank's own particles, and this step's cells of its grid (as the
+  // reduction left them, as synchronise_host gives the whole), lent to the
+  // World for observers that run by rank: its columns and cells trade
+  // places with the World's until take_back_part. Before the first step
+  // the rank reduces its own particles alone, which gives its cells of the
+  // whole grid where no shifted cell straddles a slab boundary: with no
+  // shift along the slab axis (a fresh start; a resumed one gathers).
+  bool lend_part(World& world) override {
+    if (!scattered_) scatter(View(world));
+    auto& cells = local_.resource<SrdCells<D>>();
+    if (!stepped_ && cells.shift[axis_] != 0.0) return false;
+    if (world.column_count() != std::size_t{2} + (ids_ ? 1 : 0) + (images_ ? 1 : 0)) return false;
+    SrdCellBinning<D>::assign(local_.component<Position<D>>(), cells);
+    if (!stepped_) SrdCellReduction<D>::reduce(local_, cells);
+    const std::size_t own = local_.size();
+    const auto clamped = ranks_.sum(static_cast<std::int64_t>(cells.clamped_cells));
+    world_size_ = world.size();
+    trade_part(world);
+    world.resize(own);
+    // The run's and this step's totals over the ranks, as the World had them.
+    auto& lent = world.resource<SrdCells<D>>();
+    own_totals_ = totals_of(lent);
+    set_totals(lent, totals_of(local_.resource<SrdCells<D>>()));
+    lent.clamped_cells = static_cast<std::uint64_t>(clamped);
+    world.emplace_resource<ObservedPart>(ranks_, axis_, slab_.low(), slab_.high());
+    return true;
+  }
+  void take_back_part(World& world) override {
+    trade_part(world);
+    world.resize(world_size_);
+    set_totals(local_.resource<SrdCells<D>>(), own_totals_);
   }
 
   // The every-step sums rank 0's samplers asked for, for the other ranks,
@@ -333,6 +368,32 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
 
   std::size_t width() const { return 2 * D + (ids_ ? 1 : 0) + (images_ ? D : 0); }
 
+  // What the cells count over the run and the step, besides their arrays.
+  struct Totals {
+    std::uint64_t wall_reflections = 0, clamped_cells = 0;
+    double wall_work = 0.0, collision_energy = 0.0, ghost_cell_energy = 0.0;
+  };
+  static Totals totals_of(const SrdCells<D>& cells) {
+    return {cells.wall_reflections, cells.clamped_cells, cells.step_wall_work, cells.step_collision_energy,
+            cells.step_ghost_cell_energy};
+  }
+  static void set_totals(SrdCells<D>& cells, const Totals& t) {
+    cells.wall_reflections = t.wall_reflections;
+    cells.clamped_cells = t.clamped_cells;
+    cells.step_wall_work = t.wall_work;
+    cells.step_collision_energy = t.collision_energy;
+    cells.step_ghost_cell_energy = t.ghost_cell_energy;
+  }
+
+  // The particle columns and the cells, between this rank's and the World's.
+  void trade_part(World& world) {
+    std::swap(local_.component<Position<D>>().values, world.component<Position<D>>().values);
+    std::swap(local_.component<Velocity<D>>().values, world.component<Velocity<D>>().values);
+    if (ids_) std::swap(local_.component<ParticleId>().values, world.component<ParticleId>().values);
+    if (images_) std::swap(local_.component<ImageCount<D>>().values, world.component<ImageCount<D>>().values);
+    std::swap(local_.resource<SrdCells<D>>(), world.resource<SrdCells<D>>());
+  }
+
   // Column C's values as scalars: its first element's, null where it is empty.
   template <class C>
   static auto* values_of(World& world) {
@@ -346,14 +407,6 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     else return first->data();
   }
 
-  // Whether local cell c is this rank's: its lower edge along the slab axis
-  // lies in the slab. Each cell is one rank's; a straddling one is whole on
-  // that rank, its particles above the slab being the rank's ghosts.
-  bool owns(const SrdCells<D>& local, std::size_t c) const {
-    const double edge = local.origin[axis_] + static_cast<double>(local.layer_of(c, axis_)) - local.shift[axis_];
-    return edge >= low_ && edge < high_;
-  }
-
   // This step's cells (as the reduction left them, before the rotation, with
   // the rotation's collisional transfer) into the whole grid on rank 0
   // (`whole` is null on the others), each from the rank that owns it.
@@ -362,7 +415,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     constexpr std::size_t record = 5 + D;
     std::vector<double> mine;
     for (std::size_t c = 0; c < local.cell_count(); ++c) {
-      if (!owns(local, c)) continue;
+      if (!local.owns(c)) continue;
       mine.push_back(static_cast<double>(local.cell_key(c)));
       mine.push_back(local.count[c]);
       mine.push_back(local.mass[c]);
@@ -426,12 +479,11 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   void finish_scatter(View view) {
     local_.resource<Clock>() = view.template read<Clock>();
     scattered_ = true;
-    // Only rank 0 observes and writes: the others need the whole no more,
-    // neither its particles nor its grid's arrays.
-    if (ranks_.rank() > 0) {
-      view.release();
-      view.template write<SrdCells<D>>().release_arrays();
-    }
+    // No rank needs the whole any more, neither its particles nor its
+    // grid's arrays: rank 0 makes them again where a round gathers.
+    view.release();
+    view.template write<SrdCells<D>>().release_arrays();
+    host_current_ = false;
   }
 
   // The local columns, looked up once per pass rather than per particle.
@@ -845,7 +897,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     SrdThermostat<D>::rescale(
         local_.component<Velocity<D>>().data(), nullptr, local_.size(), cells, physics_.thermostat_temperature,
         physics_.remove_drift, [copy](std::size_t i) { return copy[i] == 0; },
-        [&](std::size_t c) { return owns(cells, c); }, [&](std::vector<double> sums) { return ranks_.add_across(sums); });
+        [&](std::size_t c) { return cells.owns(c); }, [&](std::vector<double> sums) { return ranks_.add_across(sums); });
   }
 
   // The step's wall reflections, stranded particles and energies, added
@@ -925,7 +977,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
       for (std::size_t j = 0; j < width; ++j) mine[j] += partial[k * width + j];
     if (sums.stress_requested)
       for (std::size_t cell = 0; cell < cells.cell_count(); ++cell)
-        if (owns(cells, cell)) mine[width] += cells.transfer[cell];
+        if (cells.owns(cell)) mine[width] += cells.transfer[cell];
     communicating([&] { mine = ranks_.add_across(mine); });
     sums.layers.assign(at.size(), {});
     for (std::size_t q = 0; q < at.size(); ++q) {
@@ -953,6 +1005,8 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   double length_;  // of the periodic box along the slab axis
   double length_x_;
   double low_, high_;  // this rank's slab
+  std::size_t world_size_ = 0;  // the World's, while it holds this rank's part
+  Totals own_totals_;           // this rank's cells', meanwhile
   double ghost_below_edge_ = 0.0, ghost_above_edge_ = 0.0;  // this step's: particles below / above go as ghosts
   double keep_below_edge_ = 0.0, keep_above_edge_ = 0.0;    // this step's: leavers beyond them stay as ghosts
   World local_;

@@ -70,6 +70,8 @@ class SrdEnergyAccount : public SystemOf<Reads<SrdCells<D>>, Writes<EnergyLedger
   std::string name() const override { return "account_srd_energy"; }
   // The step's energies are set on the host every step, wherever the step runs.
   bool reads_device_state(const World&) const override { return false; }
+  // The step's energies are the totals over the ranks, on every rank.
+  bool observes_by_rank() const override { return true; }
   void run_on(View view) override {
     const auto& cells = view.template read<SrdCells<D>>();
     if (!cells.record_energy) throw std::logic_error("account_srd_energy needs SrdCells::record_energy");
@@ -99,19 +101,25 @@ class SrdEnergyObserver : public SystemOf<Reads<Position<D>, Velocity<D>, SrdCel
         .writes_observable("energy_ghost_exchange", unit::energy)
         .writes_observable("energy_balance_error", unit::energy);
   }
+  // Each rank sums its own particles' energies; the ledger is the same on every rank.
+  bool observes_by_rank() const override { return true; }
   void run_on(View view) override {
     const auto& cells = view.template read<SrdCells<D>>();
     const auto& x = view.template read<Position<D>>();
     const auto& v = view.template read<Velocity<D>>();
     const double m = cells.particle_mass;
-    const double kinetic = 0.5 * m * deterministic_sum(view.size(), [&](std::size_t i) { return v[i].squaredNorm(); });
+    const double kinetic =
+        0.5 * m * view.part().total(deterministic_sum(view.size(), [&](std::size_t i) { return v[i].squaredNorm(); }));
     double g[D];
-    for (int a = 0; a < D; ++a) g[a] = cells.bounded & (1u << a) ? acceleration_[a] : 0.0;
-    const double potential = -m * deterministic_sum(view.size(), [&](std::size_t i) {
+    // Along walled axes: a rank's part of the grid also ends along its
+    // slab's axis, which is periodic.
+    for (int a = 0; a < D; ++a)
+      g[a] = cells.bounded & (1u << a) && a != cells.part_of_whole.axis ? acceleration_[a] : 0.0;
+    const double potential = -m * view.part().total(deterministic_sum(view.size(), [&](std::size_t i) {
       double h = 0.0;
       for (int a = 0; a < D; ++a) h += g[a] * x[i][a];
       return h;
-    });
+    }));
     if (!ledger_->has_initial) {
       ledger_->initial = kinetic + potential;
       ledger_->has_initial = true;

@@ -6,10 +6,12 @@
 // an XDMF file beside the result file (OUTPUT.fields.xdmf and its companion
 // OUTPUT.fields.xdmf.h5) so that ParaView opens the fields on their grid. The
 // temperature of a cell is that of each sampled step (about that step's cell
-// mean), averaged.
+// mean), averaged. Over ranks each rank sums its layers of cells and the
+// writing rank, which alone keeps the window's sums, puts them together.
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -60,6 +62,7 @@ class SrdFieldWriter : public SrdFieldWriterBase<D>, public Stateful {
 
   // Only the steps of a window read the particles.
   bool reads_device_state(const World& world) const override { return in_window(world.resource<Clock>().step); }
+  bool observes_by_rank() const override { return true; }
 
   void run_on(View view) override {
     const auto& clock = view.template read<Clock>();
@@ -113,41 +116,58 @@ class SrdFieldWriter : public SrdFieldWriterBase<D>, public Stateful {
     return phase == 0 || phase > every_ - window_;
   }
 
-  std::uint32_t grid_cell(const Vec<D>& x) const {
-    std::uint32_t index = 0;
+  // Cell of x on a grid of `dims` cells whose layers along `axis` start at `low`.
+  std::size_t grid_cell(const Vec<D>& x, const std::array<std::int32_t, D>& dims, int axis, std::int64_t low) const {
+    std::size_t index = 0;
     for (int a = D - 1; a >= 0; --a) {
       auto c = static_cast<std::int64_t>(std::floor(x[a]));
       c = std::min<std::int64_t>(std::max<std::int64_t>(c, 0), cells_[a] - 1);
-      index = index * static_cast<std::uint32_t>(cells_[a]) + static_cast<std::uint32_t>(c);
+      if (a == axis) c = std::clamp<std::int64_t>(c - low, 0, dims[a] - 1);
+      index = index * static_cast<std::size_t>(dims[a]) + static_cast<std::size_t>(c);
     }
     return index;
   }
 
+  // One step's sums per cell: each rank's over its layers, which the writing
+  // rank puts together and the others, which write nothing, let go.
   void sample(const View& view) {
     const auto& x = view.template read<Position<D>>();
     const auto& v = view.template read<Velocity<D>>();
     const double* mass = view.template has<Mass>() ? view.template read<Mass>().data() : nullptr;
     const double m0 = view.template read<SrdCells<D>>().particle_mass;
-    const std::size_t count = particles_.size();
-    std::vector<double> n(count, 0.0), m(count, 0.0), p(count * D, 0.0), e(count, 0.0);
+    const ObservedPart& part = view.part();
+    const int axis = part.axis();
+    std::array<std::int32_t, D> dims = cells_;
+    dims[axis] = static_cast<std::int32_t>(part.layer_high(cells_[axis]) - part.layer_low());
+    std::size_t count = 1;
+    for (int a = 0; a < D; ++a) count *= static_cast<std::size_t>(dims[a]);
+    constexpr std::size_t width = 3 + D;  // particles, mass, sum m v^2, momentum
+    std::vector<double> sums(count * width, 0.0);
     for (std::size_t i = 0; i < view.size(); ++i) {
-      const std::uint32_t c = grid_cell(x[i]);
+      double* cell = sums.data() + grid_cell(x[i], dims, axis, part.layer_low()) * width;
       const double mi = mass ? mass[i] : m0;
-      n[c] += 1;
-      m[c] += mi;
-      for (int a = 0; a < D; ++a) p[c * D + a] += mi * v[i][a];
-      e[c] += mi * v[i].squaredNorm();
+      cell[0] += 1;
+      cell[1] += mi;
+      cell[2] += mi * v[i].squaredNorm();
+      for (int a = 0; a < D; ++a) cell[3 + a] += mi * v[i][a];
     }
-    for (std::size_t c = 0; c < count; ++c) {
-      particles_[c] += n[c];
-      for (int a = 0; a < D; ++a) momentum_[c * D + a] += p[c * D + a];
-      if (n[c] > 0 && m[c] > 0) {
+    sums = part.whole_field(sums, std::vector<std::int32_t>(cells_.begin(), cells_.end()), width);
+    if (!part.writes()) {
+      for (auto* values : {&particles_, &momentum_, &theta_, &theta_samples_, &mass_total_}) std::vector<double>().swap(*values);
+      return;
+    }
+    for (std::size_t c = 0; c < particles_.size(); ++c) {
+      const double* cell = sums.data() + c * width;
+      const double n = cell[0], m = cell[1], e = cell[2];
+      particles_[c] += n;
+      for (int a = 0; a < D; ++a) momentum_[c * D + a] += cell[3 + a];
+      if (n > 0 && m > 0) {
         double p2 = 0;
-        for (int a = 0; a < D; ++a) p2 += p[c * D + a] * p[c * D + a];
-        theta_[c] += (e[c] - p2 / m[c]) / (D * n[c]);
+        for (int a = 0; a < D; ++a) p2 += cell[3 + a] * cell[3 + a];
+        theta_[c] += (e - p2 / m) / (D * n);
         theta_samples_[c] += 1;
       }
-      mass_total_[c] += m[c];
+      mass_total_[c] += m;
     }
     ++samples_;
   }

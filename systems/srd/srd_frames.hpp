@@ -39,7 +39,7 @@ void add_srd_frames(Run& run, const TriggerPtr& outputs) {
     for (auto& image : world.add_component<ImageCount<D>>().values) image.setZero();
   add_particle_frames<D>(run, outputs);
   const double mass = world.resource<SrdCells<D>>().particle_mass;
-  run.at_finish([&world, mass](H5mdFile& file, const RunOutcome&) {
+  run.at_finish_reading_particles([&world, mass](H5mdFile& file, const RunOutcome&) {
     file.write_particle_constant("mass", std::vector<double>(world.size(), mass), 1, unit::mass);
     std::vector<std::int32_t> id(world.size());
     std::iota(id.begin(), id.end(), 0);

@@ -49,6 +49,7 @@ inline double observed(const SrdWatchView& view, const char* name) { return view
 class SrdStateWatch : public SystemOf<Reads<Clock>, Writes<RunControl>> {
  public:
   std::string name() const override { return "watch_srd_state"; }
+  bool observes_by_rank() const override { return true; }  // the observables are the totals
   Access access() const override {
     return View::access()
         .reads_observable("temperature")
@@ -67,6 +68,7 @@ class SrdEnergyWatch : public SystemOf<Reads<Clock>, Writes<RunControl>> {
  public:
   static constexpr double tolerance = 1e-6;  // of the energy turned over
   std::string name() const override { return "watch_srd_energy"; }
+  bool observes_by_rank() const override { return true; }
   Access access() const override {
     return View::access()
         .reads_observable("kinetic_energy")
@@ -101,7 +103,7 @@ void observe_state(Run& run, const TriggerPtr& when) {
 // once a cell holds more than 20 times the mean `n0`.
 template <int D>
 void warn_when_collapsed(Run& run, double n0) {
-  run.at_finish([&run, n0](H5mdFile&, const RunOutcome&) {
+  run.at_finish_reading_particles([&run, n0](H5mdFile&, const RunOutcome&) {
     const auto& state = run.world().template resource<SrdCells<D>>();
     const std::uint32_t peak = *std::max_element(state.count.begin(), state.count.end());
     if (peak > 20.0 * n0)

@@ -39,14 +39,17 @@ class VelocityDistributionObserver : public SystemOf<Reads<Velocity<D>, Mass, Sr
     return View::access().writes_observable("velocity_distribution", unit::none);
   }
 
+  // Each rank bins its own particles; the counts are added over the ranks.
+  bool observes_by_rank() const override { return true; }
+
   void run_on(View view) override {
     const auto& velocity = view.template read<Velocity<D>>();
     const std::size_t n = view.size();
-    const GlobalMotion<D> global = global_motion<D>(view.template read<Velocity<D>>(), view.template has<Mass>() ? &view.template read<Mass>() : nullptr, view.template read<SrdCells<D>>().particle_mass);
+    const GlobalMotion<D> global = observed_motion<D>(view, view.template read<SrdCells<D>>().particle_mass);
     const Vec<D>& mean = global.mean;
     const double granular = global.granular_temperature;
     std::vector<double> density(bins_, 0.0);
-    const double scale = granular > 0 ? 1.0 / std::sqrt(2.0 * granular / (global.total_mass / static_cast<double>(n))) : 0.0;
+    const double scale = granular > 0 ? 1.0 / std::sqrt(2.0 * granular / (global.total_mass / global.particles)) : 0.0;
     const double width = reduced_speed_max / static_cast<double>(bins_);
     // Integer counts: the histogram is exact, so the order does not matter.
     for (std::size_t i = 0; i < n; ++i) {
@@ -54,7 +57,8 @@ class VelocityDistributionObserver : public SystemOf<Reads<Velocity<D>, Mass, Sr
       const auto bin = static_cast<std::size_t>(c / width);
       if (bin < bins_) density[bin] += 1.0;
     }
-    for (double& value : density) value /= static_cast<double>(n) * width;
+    density = view.part().total(density);
+    for (double& value : density) value /= global.particles * width;
     view.observables().set("velocity_distribution", std::move(density));
   }
 
