@@ -83,7 +83,7 @@ void build(Run& run) {
   run.at_finish([sums, volume = srd::layer_volume<D>(cells, up), n0](H5mdFile& file, const RunOutcome&) {
     srd::write_densest_layer(file, *sums, volume, n0);
   });
-  srd::warn_when_collapsed<D>(run, n0);
+  srd::warn_when_collapsed(run, n0);
 }
 
 }  // namespace

@@ -77,9 +77,8 @@ void build(Run& run) {
   // particles); sampling every step would add a serial pass over the
   // particles to each step (3.7 % of the instructions at every tenth step).
   srd::add_layer_profiles<D>(run, cells, 1, 0, every, 0, true, std::max<std::int64_t>(1, every / 10));
-  // The whole system's count when the run ends (over ranks, rank 0's gathered World).
-  run.at_finish_reading_particles([sums, &run, granular, dissipative](H5mdFile& file, const RunOutcome&) {
-    const auto n = static_cast<double>(run.world().size());
+  run.at_finish([sums, &run, granular, dissipative](H5mdFile& file, const RunOutcome&) {
+    const double n = sums->particles();
     const double rate = sums->measured_shear_rate();
     const auto nu = sums->viscosities(rate, n);
     const auto [measured_t, measured_t_error] = sums->temperature_yy();

@@ -16,6 +16,7 @@
 // `axis` (a slab of whole cells), and `whole_field` places every rank's
 // layers into the whole grid on rank 0, the one that writes.
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <stdexcept>
@@ -41,6 +42,19 @@ class ObservedPart {
     return whole() ? mine : ranks_->add_across(mine);
   }
 
+  // The largest of the ranks' values, on every rank.
+  double largest(double mine) const {
+    if (whole()) return mine;
+    const std::vector<double> all = ranks_->gather_all({mine});
+    return *std::max_element(all.begin(), all.end());
+  }
+
+  // Every rank's `mine`, concatenated in rank order, on the writing rank;
+  // nothing on the others.
+  std::vector<double> to_writer(const std::vector<double>& mine) const {
+    return whole() ? mine : ranks_->gather_to_first(mine);
+  }
+
   // The layers of unit cells this part's particles lie in, along axis():
   // [layer_low(), layer_high()), or `layers`, all of them, for the whole.
   int axis() const { return axis_; }
@@ -61,8 +75,8 @@ class ObservedPart {
       else if (static_cast<int>(a) == axis_) layers = n;
       else above *= n;
     }
-    const std::vector<double> bounds = ranks_->gather_to_first({static_cast<double>(low_), static_cast<double>(high_)});
-    const std::vector<double> all = ranks_->gather_to_first(mine);
+    const std::vector<double> bounds = to_writer({static_cast<double>(low_), static_cast<double>(high_)});
+    const std::vector<double> all = to_writer(mine);
     if (!writes()) return {};
     std::vector<double> field(below * layers * above, 0.0);
     std::size_t from = 0;

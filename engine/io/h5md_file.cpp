@@ -29,6 +29,7 @@ namespace {
 // frame of 1000 particles' positions two, larger frames one.
 constexpr hsize_t frames_per_chunk = 64;
 constexpr hsize_t values_per_chunk = 8192;
+constexpr hsize_t values_per_frame_chunk = hsize_t{1} << 20;
 
 void write_string_dataset(hid_t parent, const std::string& name, const std::vector<std::string>& values,
                           bool scalar) {
@@ -61,6 +62,10 @@ H5Handle create_extendible(hid_t parent, const std::string& name, hid_t type, co
   }
   chunk[0] = std::clamp<hsize_t>(values_per_chunk / std::max<hsize_t>(inner_count, 1), 1, frames_per_chunk);
   for (hsize_t extent : inner) chunk.push_back(extent);
+  // A frame too large for one chunk (HDF5 allows under 4 GiB) is split
+  // along its first axis (the particles), so that it is written in blocks.
+  if (!inner.empty() && inner_count > values_per_frame_chunk)
+    chunk[1] = std::max<hsize_t>(1, values_per_frame_chunk / (inner_count / inner[0]));
   H5Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), max_dims.data()), H5Sclose,
                  "create extendible space for " + name);
   H5Handle properties(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "create dataset properties");
@@ -84,6 +89,29 @@ void append_frame(hid_t dataset, hid_t mem_type, hsize_t frame, const void* data
   H5Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), H5Sclose,
                         "create memory space");
   h5_check(H5Dwrite(dataset, mem_type, memory_space, file_space, H5P_DEFAULT, data), "append to " + what);
+}
+
+// Rows [first, first + rows) of the last frame, of `inner` values each.
+void write_rows(hid_t dataset, hid_t mem_type, hsize_t frame, hsize_t first, hsize_t rows, const void* data,
+                const std::vector<hsize_t>& inner, const std::string& what) {
+  std::vector<hsize_t> start{frame, first}, count{1, rows};
+  for (std::size_t k = 1; k < inner.size(); ++k) {
+    start.push_back(0);
+    count.push_back(inner[k]);
+  }
+  H5Handle file_space(H5Dget_space(dataset), H5Sclose, "get space of " + what);
+  h5_check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
+           "select rows of " + what);
+  H5Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), H5Sclose,
+                        "create memory space");
+  h5_check(H5Dwrite(dataset, mem_type, memory_space, file_space, H5P_DEFAULT, data), "write rows of " + what);
+}
+
+// Reduced units (docs/units.md). MDAnalysis refuses any unit string it does
+// not know here, even when asked not to convert units: it reads the frames
+// through `granflow export --format mdanalysis`, whose datasets carry none.
+std::string particle_unit(const std::string& name) {
+  return name == "position" ? unit::length : name == "velocity" ? unit::velocity : "";
 }
 
 }  // namespace
@@ -363,6 +391,11 @@ std::map<std::string, std::size_t> H5mdFile::frame_counts() const {
   return counts;
 }
 
+std::size_t H5mdFile::particles_in_frames(const std::string& name) const {
+  const auto s = series_.find("/particles/all/" + name);
+  return s == series_.end() || s->second->shape.empty() ? 0 : static_cast<std::size_t>(s->second->shape.front());
+}
+
 void H5mdFile::restore_frames(const StateMap& state) {
   const std::string suffix = "/shape";
   for (const auto& [key, shape_values] : state) {
@@ -391,16 +424,37 @@ void H5mdFile::restore_frames(const StateMap& state) {
   }
 }
 
-// Reduced units (docs/units.md). MDAnalysis refuses any unit string it does
-// not know here, even when asked not to convert units: it reads the frames
-// through `granflow export --format mdanalysis`, whose datasets carry none.
 void H5mdFile::append_particle_frame(const std::string& name, std::int64_t step, double time,
                                      const std::vector<double>& data, std::size_t components) {
   std::vector<hsize_t> shape{data.size() / components};
   if (components > 1) shape.push_back(components);
-  const std::string unit = name == "position" ? unit::length : name == "velocity" ? unit::velocity : "";
-  append_to(series("/particles/all/" + name, data.size(), shape, H5T_NATIVE_DOUBLE, unit, unit::time), step, time,
-            data.data(), name);
+  append_to(series("/particles/all/" + name, data.size(), shape, H5T_NATIVE_DOUBLE, particle_unit(name), unit::time),
+            step, time, data.data(), name);
+}
+
+void H5mdFile::begin_particle_frame(const std::string& name, std::int64_t step, double time, std::size_t count,
+                                    std::size_t components, bool integers) {
+  std::vector<hsize_t> shape{count};
+  if (components > 1) shape.push_back(components);
+  Series& s = series("/particles/all/" + name, count * components, shape,
+                     integers ? H5T_NATIVE_INT32 : H5T_NATIVE_DOUBLE, integers ? "" : particle_unit(name), unit::time);
+  append_frame(s.step, H5T_NATIVE_INT64, s.frames, &step, {}, name + "/step");
+  append_frame(s.time, H5T_NATIVE_DOUBLE, s.frames, &time, {}, name + "/time");
+  std::vector<hsize_t> dims{s.frames + 1};
+  dims.insert(dims.end(), s.shape.begin(), s.shape.end());
+  h5_check(H5Dset_extent(s.value, dims.data()), "extend " + name + "/value");
+  ++s.frames;
+}
+
+void H5mdFile::write_particle_rows(const std::string& name, std::size_t first, std::size_t rows, const double* data) {
+  Series& s = *series_.at("/particles/all/" + name);
+  write_rows(s.value, H5T_NATIVE_DOUBLE, s.frames - 1, first, rows, data, s.shape, name + "/value");
+}
+
+void H5mdFile::write_particle_rows(const std::string& name, std::size_t first, std::size_t rows,
+                                   const std::int32_t* data) {
+  Series& s = *series_.at("/particles/all/" + name);
+  write_rows(s.value, H5T_NATIVE_INT32, s.frames - 1, first, rows, data, s.shape, name + "/value");
 }
 
 void H5mdFile::append_particle_frame(const std::string& name, std::int64_t step, double time,

@@ -42,6 +42,14 @@ class H5mdFile {
                              const std::vector<double>& data, std::size_t components);
   void append_particle_frame(const std::string& name, std::int64_t step, double time,
                              const std::vector<std::int32_t>& data, std::size_t components);
+  // The same frame in blocks of rows, for a writer that never holds it
+  // whole: begin_particle_frame adds a frame of `count` rows (doubles, or
+  // int32 where `integers`), write_particle_rows fills rows [first, first +
+  // rows) of the last one. Rows left unwritten read as 0.
+  void begin_particle_frame(const std::string& name, std::int64_t step, double time, std::size_t count,
+                            std::size_t components, bool integers);
+  void write_particle_rows(const std::string& name, std::size_t first, std::size_t rows, const double* data);
+  void write_particle_rows(const std::string& name, std::size_t first, std::size_t rows, const std::int32_t* data);
   // The unit of an observable (an H5MD unit string, engine/core/units.hpp), put on
   // its value (and its time in T) when the series is created.
   void declare_unit(const std::string& observable, const std::string& unit) { units_[observable] = unit; }
@@ -67,6 +75,8 @@ class H5mdFile {
   // them into a resumed run's new file before it writes more.
   StateMap frames_state(const std::map<std::string, std::size_t>& limit = {}) const;
   std::map<std::string, std::size_t> frame_counts() const;
+  // The particles in the frames of /particles/all/NAME (0 where none was written).
+  std::size_t particles_in_frames(const std::string& name) const;
   void restore_frames(const StateMap& state);
   // Where the run came from, segment by segment: every segment of a resumed
   // run (command line, version and revision, host, threads, start, end, wall

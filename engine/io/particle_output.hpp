@@ -2,8 +2,12 @@
 // Writes particle data to /particles/all in particle-id order, whatever order
 // the engine keeps them in memory.
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cstdint>
 #include <numeric>
+#include <stdexcept>
 #include <vector>
 
 #include "components/image_count.hpp"
@@ -13,6 +17,7 @@
 #include "components/radius.hpp"
 #include "components/species.hpp"
 #include "components/velocity.hpp"
+#include "engine/core/observed_part.hpp"
 #include "engine/core/units.hpp"
 #include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
@@ -92,6 +97,61 @@ void append_particle_frame(H5mdFile& file, const ParticleFrameView<D>& view, std
   if (view.template has<ImageCount<D>>())
     file.append_particle_frame("image", step, time,
                                flatten_integers_by_id(view.template read<ImageCount<D>>(), order), D);
+}
+
+// The same frame where each rank holds its own particles (observers that
+// run by rank): the ranks send their particles to the writing rank in
+// blocks of frame_block ids, which it writes as rows of the frame, so that
+// no rank holds more than one block of the whole. `file` is the writing
+// rank's (null on the others, which take part all the same).
+inline constexpr std::size_t frame_block = std::size_t{1} << 18;
+
+template <int D>
+void append_particle_frame_by_rank(H5mdFile* file, const ParticleFrameView<D>& view, const ObservedPart& part,
+                                   std::int64_t step, double time) {
+  const std::size_t n = view.size();
+  const auto total = static_cast<std::size_t>(part.total(static_cast<double>(n)));
+  const auto& id = view.template read<ParticleId>();
+  std::vector<std::uint32_t> by_id(n);
+  std::iota(by_id.begin(), by_id.end(), 0u);
+  std::sort(by_id.begin(), by_id.end(), [&](std::uint32_t a, std::uint32_t b) { return id[a] < id[b]; });
+  const auto element = [&](const char* name, bool integers, auto&& values_of) {
+    if (file) file->begin_particle_frame(name, step, time, total, D, integers);
+    std::size_t next = 0;
+    for (std::size_t first = 0; first < total; first += frame_block) {
+      const std::size_t rows = std::min(frame_block, total - first);
+      std::vector<double> mine;
+      for (; next < n && id[by_id[next]] < first + rows; ++next) {
+        mine.push_back(static_cast<double>(id[by_id[next]]));
+        for (int a = 0; a < D; ++a) mine.push_back(values_of(by_id[next], a));
+      }
+      const std::vector<double> block = part.to_writer(mine);
+      if (!file) continue;
+      if (block.size() != rows * (D + 1))
+        throw std::logic_error(fmt::format("particle frame: {} of ids {}..{} arrived", block.size() / (D + 1), first,
+                                           first + rows - 1));
+      std::vector<double> row_values(rows * D);
+      for (std::size_t k = 0; k < block.size(); k += D + 1) {
+        const auto row = static_cast<std::size_t>(block[k]) - first;
+        std::copy_n(block.begin() + static_cast<std::ptrdiff_t>(k + 1), D,
+                    row_values.begin() + static_cast<std::ptrdiff_t>(row * D));
+      }
+      if (integers) {
+        const std::vector<std::int32_t> as_integers(row_values.begin(), row_values.end());
+        file->write_particle_rows(name, first, rows, as_integers.data());
+      } else {
+        file->write_particle_rows(name, first, rows, row_values.data());
+      }
+    }
+  };
+  const auto& x = view.template read<Position<D>>();
+  const auto& v = view.template read<Velocity<D>>();
+  element("position", false, [&](std::uint32_t i, int a) { return x[i][a]; });
+  element("velocity", false, [&](std::uint32_t i, int a) { return v[i][a]; });
+  if (view.template has<ImageCount<D>>()) {
+    const auto& image = view.template read<ImageCount<D>>();
+    element("image", true, [&](std::uint32_t i, int a) { return static_cast<double>(image[i][a]); });
+  }
 }
 
 }  // namespace granflow

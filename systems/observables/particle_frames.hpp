@@ -35,8 +35,15 @@ class ParticleFrameWriter : public ParticleFrameWriterBase<D> {
  public:
   using View = typename ParticleFrameWriterBase<D>::View;
   std::string name() const override { return "write_particle_frames"; }
+  // Over ranks each sends its particles to the writing rank, by blocks of ids.
+  bool observes_by_rank() const override { return true; }
   void run_on(View view) override {
     H5mdFile* file = view.template write<OutputFile>().file;
+    if (!view.part().whole()) {
+      const auto& clock = view.template read<Clock>();
+      append_particle_frame_by_rank<D>(file, view, view.part(), clock.step, clock.time);
+      return;
+    }
     if (!file) return;
     const auto& clock = view.template read<Clock>();
     append_particle_frame<D>(*file, view, clock.step, clock.time);

@@ -72,6 +72,12 @@ class ShearStress : public Stateful {
   }
 
   std::int64_t samples() const { return samples_; }
+  // The particles a sample counted (every sample counts them all).
+  double particles() const {
+    double all = 0.0;
+    for (const double c : counts_) all += c;
+    return samples_ > 0 ? all / static_cast<double>(samples_) : 0.0;
+  }
 
   // Least-squares slope of the slab means, leaving out the slab on each side of the shear plane.
   double measured_shear_rate() const {
@@ -176,17 +182,22 @@ class ShearStressSampler : public ShearStressSamplerBase<D> {
 
   std::string name() const override { return "sample_srd_stress"; }
   bool reads_device_state(const World& world) const override { return !device_.ready(world); }
+  // The step's sums are the ranks' totals; its own pass is totalled likewise.
+  bool observes_by_rank() const override { return true; }
 
   void run_on(View view) override {
     const auto& cells = view.template read<SrdCells<D>>();
-    const std::size_t slabs = static_cast<std::size_t>(cells.cells[1]);
+    // The layers across y: the box's (a rank's grid may be a slab along y).
+    const auto slabs = static_cast<std::size_t>(cells.length[1]);
     if (const auto* device = device_.ready(view)) {
       const auto& rows = device_.layers(*device);
-      const double m0 = cells.particle_mass, n = static_cast<double>(view.size());
+      const double m0 = cells.particle_mass;
       std::vector<double> slab_vx(slabs), slab_count(slabs);
+      double n = 0.0;
       for (std::size_t k = 0; k < slabs; ++k) {
         slab_count[k] = rows[k * (3 + D)];
         slab_vx[k] = rows[k * (3 + D) + 1];
+        n += slab_count[k];
       }
       sums_->add(m0 * device->stress[0] / n, m0 * device->stress[1] / n, m0 * device->stress[2] / n, m0,
                  device->transfer, slab_vx, slab_count);
@@ -201,18 +212,28 @@ class ShearStressSampler : public ShearStressSamplerBase<D> {
     const std::size_t n = view.size();
     const auto m = [&](std::size_t i) { return mass ? mass[i] : m0; };
     const double half = 0.5 * cells.length[1];
-    const double vxvy = deterministic_sum(n, [&](std::size_t i) { return m(i) * v[i][0] * v[i][1]; }) / n;
-    const double vy_y = deterministic_sum(n, [&](std::size_t i) { return m(i) * v[i][1] * (x[i][1] - half); }) / n;
-    const double vy2 = deterministic_sum(n, [&](std::size_t i) { return m(i) * v[i][1] * v[i][1]; }) / n;
-    const double mean_mass = deterministic_sum(n, m) / n;
-    const double transfer = deterministic_sum(cells.cell_count(), [&](std::size_t c) { return cells.transfer[c]; });
-    std::vector<double> slab_vx(static_cast<std::size_t>(cells.cells[1]), 0.0), slab_count(slab_vx.size(), 0.0);
+    std::vector<double> slab_vx(slabs, 0.0), slab_count(slabs, 0.0);
     for (std::size_t i = 0; i < n; ++i) {
-      const auto j = std::min(slab_vx.size() - 1, static_cast<std::size_t>(x[i][1]));
+      const auto j = std::min(slabs - 1, static_cast<std::size_t>(x[i][1]));
       slab_vx[j] += v[i][0];
       slab_count[j] += 1.0;
     }
-    sums_->add(vxvy, vy_y, vy2, mean_mass, transfer, slab_vx, slab_count);
+    enum { vxvy, vy_y, vy2, masses, transfer, particles, layers };
+    std::vector<double> sums{
+        deterministic_sum(n, [&](std::size_t i) { return m(i) * v[i][0] * v[i][1]; }),
+        deterministic_sum(n, [&](std::size_t i) { return m(i) * v[i][1] * (x[i][1] - half); }),
+        deterministic_sum(n, [&](std::size_t i) { return m(i) * v[i][1] * v[i][1]; }),
+        deterministic_sum(n, m),
+        deterministic_sum(cells.cell_count(), [&](std::size_t c) { return cells.owns(c) ? cells.transfer[c] : 0.0; }),
+        static_cast<double>(n)};
+    sums.insert(sums.end(), slab_vx.begin(), slab_vx.end());
+    sums.insert(sums.end(), slab_count.begin(), slab_count.end());
+    sums = view.part().total(sums);
+    const double total = sums[particles];
+    const auto layer = sums.begin() + layers;
+    const auto slab = static_cast<std::ptrdiff_t>(slabs);
+    sums_->add(sums[vxvy] / total, sums[vy_y] / total, sums[vy2] / total, sums[masses] / total, sums[transfer],
+               std::vector<double>(layer, layer + slab), std::vector<double>(layer + slab, layer + 2 * slab));
   }
 
  private:
@@ -227,6 +248,7 @@ class ShearViscosityObserver : public SystemOf<Reads<Velocity<D>>, Writes<ShearS
   explicit ShearViscosityObserver(std::shared_ptr<ShearStress> sums) : sums_(std::move(sums)) {}
 
   std::string name() const override { return "observe_srd_viscosity"; }
+  bool observes_by_rank() const override { return true; }  // the sums are the same on every rank
   Access access() const override {
     return View::access()
         .writes_observable("shear_rate_measured", unit::rate)
@@ -238,7 +260,7 @@ class ShearViscosityObserver : public SystemOf<Reads<Velocity<D>>, Writes<ShearS
     if (sums_->samples() == 0) return;
     auto& store = view.observables();
     const double rate = sums_->measured_shear_rate();
-    const auto nu = sums_->viscosities(rate, static_cast<double>(view.size()));
+    const auto nu = sums_->viscosities(rate, view.part().total(static_cast<double>(view.size())));
     store.set("shear_rate_measured", rate);
     store.set("viscosity_kinetic", nu.kinetic);
     store.set("viscosity_collisional", nu.collisional);

@@ -185,6 +185,11 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
 
   void run_on(View view) override {
     if (!scattered_) scatter(view);
+    // A whole that a round gathered onto rank 0 is stale once the step moves on.
+    if (view.size() > 0) {
+      view.release();
+      view.template write<SrdCells<D>>().release_arrays();
+    }
     stepped_ = true;
     const auto now = local_.resource<Clock>().step;
     if (balance_.every_steps > 0 && now > 0 && now % balance_.every_steps == 0) timed(10, [&] { rebalance(); });

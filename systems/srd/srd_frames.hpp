@@ -38,10 +38,13 @@ void add_srd_frames(Run& run, const TriggerPtr& outputs) {
   if (!world.has_component<ImageCount<D>>())
     for (auto& image : world.add_component<ImageCount<D>>().values) image.setZero();
   add_particle_frames<D>(run, outputs);
+  // As many as the frames hold: over ranks no process holds them all.
   const double mass = world.resource<SrdCells<D>>().particle_mass;
-  run.at_finish_reading_particles([&world, mass](H5mdFile& file, const RunOutcome&) {
-    file.write_particle_constant("mass", std::vector<double>(world.size(), mass), 1, unit::mass);
-    std::vector<std::int32_t> id(world.size());
+  run.at_finish([mass](H5mdFile& file, const RunOutcome&) {
+    const std::size_t count = file.particles_in_frames("position");
+    if (count == 0) return;
+    file.write_particle_constant("mass", std::vector<double>(count, mass), 1, unit::mass);
+    std::vector<std::int32_t> id(count);
     std::iota(id.begin(), id.end(), 0);
     file.write_particle_constant("id", id);
   });

@@ -32,15 +32,20 @@ class SrdHeightObserver : public SystemOf<Reads<Position<D>, SrdCells<D>>, Write
         .writes_observable("centre_of_mass_height", unit::length)
         .writes_observable("peak_cell_density", unit::none);
   }
+  // Each rank sums its particles' heights and finds its own cells' peak.
+  bool observes_by_rank() const override { return true; }
   void run_on(View view) override {
     const auto& x = view.template read<Position<D>>();
     const auto& cells = view.template read<SrdCells<D>>();
-    const double height =
-        deterministic_sum(view.size(), [&](std::size_t i) { return x[i][axis_]; }) / static_cast<double>(view.size());
-    const std::uint32_t peak = cells.count.empty() ? 0 : *std::max_element(cells.count.begin(), cells.count.end());
+    const ObservedPart& part = view.part();
+    const std::vector<double> sums = part.total(
+        {deterministic_sum(view.size(), [&](std::size_t i) { return x[i][axis_]; }), static_cast<double>(view.size())});
+    std::uint32_t peak = 0;
+    for (std::size_t c = 0; c < cells.count.size(); ++c)
+      if (cells.owns(c)) peak = std::max(peak, cells.count[c]);
     auto& store = view.observables();
-    store.set("centre_of_mass_height", height);
-    store.set("peak_cell_density", peak / mean_per_cell_);
+    store.set("centre_of_mass_height", sums[0] / sums[1]);
+    store.set("peak_cell_density", part.largest(peak) / mean_per_cell_);
   }
 
  private:

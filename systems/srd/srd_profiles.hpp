@@ -131,6 +131,8 @@ class SrdProfileSampler : public SrdProfileSamplerBase<D> {
 
   std::string name() const override { return "sample_srd_profiles"; }
   bool reads_device_state(const World& world) const override { return !device_.ready(world); }
+  // The step's sums are the ranks' totals; its own pass is totalled likewise.
+  bool observes_by_rank() const override { return true; }
 
   void run_on(View view) override {
     if (const auto* sums = device_.ready(view)) {
@@ -152,7 +154,7 @@ class SrdProfileSampler : public SrdProfileSamplerBase<D> {
       s[2] += v[i].squaredNorm();
       for (int a = 0; a < D; ++a) s[3 + a] += v[i][a];
     }
-    sums_->add(step);
+    sums_->add(view.part().total(step));
   }
 
  private:
@@ -169,6 +171,7 @@ class SrdProfileObserver : public SystemOf<Reads<>, Writes<ProfileSums>> {
       : layer_volume_(layer_volume), mass_(mass), sums_(std::move(sums)), band_(band) {}
 
   std::string name() const override { return "observe_srd_profiles"; }
+  bool observes_by_rank() const override { return true; }  // the sums are the same on every rank
   Access access() const override {
     Access access = View::access();
     if (band_) access.writes_observable("band_width", unit::length).writes_observable("band_contrast", unit::none);

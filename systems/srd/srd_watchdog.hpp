@@ -23,6 +23,7 @@
 #include "engine/core/system_catalogue.hpp"
 #include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
+#include "engine/run/observable_recorder.hpp"
 #include "engine/run/run.hpp"
 #include "engine/run/run_control.hpp"
 #include "systems/srd/srd_cells.hpp"
@@ -100,16 +101,18 @@ void observe_state(Run& run, const TriggerPtr& when) {
 
 // Granular SRD is very compressible: the dense layer's pattern can coarsen
 // into one spot. Not a failure of the method, so a warning when the run ends,
-// once a cell holds more than 20 times the mean `n0`.
-template <int D>
-void warn_when_collapsed(Run& run, double n0) {
-  run.at_finish_reading_particles([&run, n0](H5mdFile&, const RunOutcome&) {
-    const auto& state = run.world().template resource<SrdCells<D>>();
-    const std::uint32_t peak = *std::max_element(state.count.begin(), state.count.end());
-    if (peak > 20.0 * n0)
-      spdlog::warn("the fluid has collapsed: one cell holds {} particles, {:.0f} times the mean; granular SRD's "
+// once a cell held more than 20 times the mean `n0` at the last output
+// (peak_cell_density, srd_height_observer.hpp, observed by rank).
+inline void warn_when_collapsed(Run& run, double n0) {
+  run.at_finish([&run, n0](H5mdFile&, const RunOutcome&) {
+    const auto& history = run.recorder().history();
+    const auto peaks = history.find("peak_cell_density");
+    if (peaks == history.end() || peaks->second.empty()) return;
+    const double peak = peaks->second.back().value.at(0);
+    if (peak > 20.0)
+      spdlog::warn("the fluid has collapsed: one cell holds {:.0f} particles, {:.0f} times the mean; granular SRD's "
                    "compressibility lets the dense layer's pattern coarsen into one spot",
-                   peak, peak / n0);
+                   peak * n0, peak);
   });
 }
 

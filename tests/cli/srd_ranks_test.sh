@@ -54,17 +54,23 @@ thin=(--set 'system.cells=[8,8,3]' --set srd.temperature=3000 --set run.steps=30
 "$granflow" run "$cooling" "${thin[@]}" -o "$work/one_thin.h5" || fail "one rank (thin) exited with $?"
 ranks 3 run "$cooling" "${thin[@]}" -o "$work/ranks3_thin.h5" || fail "3 ranks (thin) exited with $?"
 agree "$work/one_thin.h5" "$work/ranks3_thin.h5" 1e-9
-# Without particle frames every observer of gsrd_cooling runs on every rank
-# over its own particles: no round gathers the system onto rank 0.
-/usr/bin/python3 - "$work/ranks3_thin.h5" <<'PY' || failures=$((failures + 1))
+# Every observer runs on every rank over its own particles, frames and
+# fields included: no round gathers the system onto rank 0 (checkpoints do).
+no_gather() {  # FILE
+  /usr/bin/python3 - "$1" <<'PY' || failures=$((failures + 1))
 import h5py, sys
 profile = h5py.File(sys.argv[1], 'r')['profile']
 calls = {s.decode(): c for s, c in zip(profile['system'][()], profile['calls'][()])}
-if calls.get('observe_srd_state', 0) < 2: sys.exit(f"FAIL: the state was observed {calls.get('observe_srd_state')} times")
+observed = calls.get('observe_srd_state', 0)
+if observed < 2: sys.exit(f"FAIL: {sys.argv[1]}: the state was observed {observed} times")
 gathers = calls.get('srd_domain_step.gather')
-if gathers != 0: sys.exit(f"FAIL: the observers gathered the system {gathers} times")
-print(f"ok: {calls['observe_srd_state']} observations on 3 ranks, no gather")
+if gathers != 0: sys.exit(f"FAIL: {sys.argv[1]}: the observers gathered the system {gathers} times")
+print(f"ok: {sys.argv[1]}: {observed} observations, no gather")
 PY
+}
+no_gather "$work/ranks3_thin.h5"
+no_gather "$work/ranks2_3d.h5"
+no_gather "$work/ranks3_2d.h5"
 /usr/bin/python3 -c "
 import h5py, sys
 f = h5py.File('$work/ranks3_3d.h5', 'r')
@@ -76,14 +82,18 @@ sys.exit(0 if f['parameters/derived'].attrs['ranks'] == 3 else 'FAIL: ranks not 
 # 2 ranks, against one process's beyond its run of 64 cells: 0.65 and 0.68
 # now; rank 0 was 1.1 when it gathered the whole to observe, and every rank
 # 1.0 when each built the whole. 0.8 leaves room for the allocator.
-peaks() {  # NP ARGS...: "rank kB exit-code" per rank
+peaks() {  # NP ARGS...: "rank kB exit-code" per rank (each rank writes its own line: no interleaving)
   local np=$1
   shift
+  rm -f "$work"/peak.*
   "$mpiexec" -np "$np" --oversubscribe --bind-to none /usr/bin/python3 -c "
 import os, resource, subprocess, sys
-code = subprocess.run(sys.argv[1:]).returncode
-print(os.environ['OMPI_COMM_WORLD_RANK'], resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss, code)
-" "$granflow" run "$cooling" --set run.steps=20 -q --threads 1 -o "$work/memory.h5" "$@"
+code = subprocess.run(sys.argv[2:]).returncode
+rank = os.environ['OMPI_COMM_WORLD_RANK']
+with open(f'{sys.argv[1]}/peak.{rank}', 'w') as out:
+    print(rank, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss, code, file=out)
+" "$work" "$granflow" run "$cooling" --set run.steps=20 -q --threads 1 -o "$work/memory.h5" "$@"
+  cat "$work"/peak.*
 }
 /usr/bin/python3 - "$(peaks 1 --set 'system.cells=[4,4,4]')" "$(peaks 1 --set 'system.cells=[40,40,40]')" \
   "$(peaks 2 --set 'system.cells=[4,4,4]')" "$(peaks 2 --set 'system.cells=[40,40,40]')" <<'PY' || failures=$((failures + 1))
@@ -147,6 +157,7 @@ alike() {  # alike NAME SCENARIO ARGS...: on 1, 2 and 3 ranks
   for k in 2 3; do
     ranks "$k" run "$scenario" "$@" -q -o "$work/${name}_$k.h5" || fail "$k ranks ($name) exited with $?"
     agree "$work/${name}_1.h5" "$work/${name}_$k.h5" 1e-9 observables/energy_balance_error
+    no_gather "$work/${name}_$k.h5"
   done
 }
 alike poiseuille_2d "$scenarios/srd_poiseuille.toml" --set run.steps=600 --set poiseuille.warmup_steps=100
