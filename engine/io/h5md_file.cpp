@@ -74,6 +74,17 @@ H5Handle create_extendible(hid_t parent, const std::string& name, hid_t type, co
                   "create dataset " + name);
 }
 
+// The block of `count` values from `start` of a dataset, from `data`.
+void write_block(hid_t dataset, hid_t mem_type, const std::vector<hsize_t>& start, const std::vector<hsize_t>& count,
+                 const void* data, const std::string& what) {
+  H5Handle file_space(H5Dget_space(dataset), H5Sclose, "get space of " + what);
+  h5_check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
+           "select a block of " + what);
+  H5Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), H5Sclose,
+                        "create memory space");
+  h5_check(H5Dwrite(dataset, mem_type, memory_space, file_space, H5P_DEFAULT, data), "write to " + what);
+}
+
 void append_frame(hid_t dataset, hid_t mem_type, hsize_t frame, const void* data, const std::vector<hsize_t>& inner,
                   const std::string& what) {
   std::vector<hsize_t> dims{frame + 1}, start{frame}, count{1};
@@ -83,15 +94,10 @@ void append_frame(hid_t dataset, hid_t mem_type, hsize_t frame, const void* data
     count.push_back(extent);
   }
   h5_check(H5Dset_extent(dataset, dims.data()), "extend " + what);
-  H5Handle file_space(H5Dget_space(dataset), H5Sclose, "get space of " + what);
-  h5_check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
-           "select frame of " + what);
-  H5Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), H5Sclose,
-                        "create memory space");
-  h5_check(H5Dwrite(dataset, mem_type, memory_space, file_space, H5P_DEFAULT, data), "append to " + what);
+  write_block(dataset, mem_type, start, count, data, what);
 }
 
-// Rows [first, first + rows) of the last frame, of `inner` values each.
+// Rows [first, first + rows) of a frame, of `inner` values each.
 void write_rows(hid_t dataset, hid_t mem_type, hsize_t frame, hsize_t first, hsize_t rows, const void* data,
                 const std::vector<hsize_t>& inner, const std::string& what) {
   std::vector<hsize_t> start{frame, first}, count{1, rows};
@@ -99,12 +105,7 @@ void write_rows(hid_t dataset, hid_t mem_type, hsize_t frame, hsize_t first, hsi
     start.push_back(0);
     count.push_back(inner[k]);
   }
-  H5Handle file_space(H5Dget_space(dataset), H5Sclose, "get space of " + what);
-  h5_check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
-           "select rows of " + what);
-  H5Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), H5Sclose,
-                        "create memory space");
-  h5_check(H5Dwrite(dataset, mem_type, memory_space, file_space, H5P_DEFAULT, data), "write rows of " + what);
+  write_block(dataset, mem_type, start, count, data, what);
 }
 
 // Reduced units (docs/units.md). MDAnalysis refuses any unit string it does

@@ -36,15 +36,17 @@
 // number of ranks a run is bit for bit the same on any thread count, and
 // resumes bit for bit.
 //
-// Observers and checkpoints read the World, which on rank 0 is the whole
-// system: synchronise_host gathers every rank's particles into it, in rank
-// order, with this step's cells as the reduction left them before the
-// rotation, as on one rank. Only rank 0 observes and writes
-// (Run::run_observers shares its observers' decisions, and what its
-// samplers ask of this step, with the others), so the other ranks let go
-// of the whole system once they have their slab. A resumed run scatters
-// the checkpoint's World back by slab, which gives each rank its particles
-// in the order it held them.
+// Observers run on every rank over its own part: lend_part puts the rank's
+// particles, and its grid's cells as the reduction left them before the
+// rotation, into the World, and the observers total their sums over the
+// ranks (engine/core/observed_part.hpp). No rank holds the whole system
+// then. A checkpoint, or an observer that cannot run by rank, reads the
+// whole on rank 0: synchronise_host gathers every rank's particles into
+// it, in rank order, with the whole grid's cells, as on one rank; rank 0
+// observes alone and shares its decisions (Run::run_observers), and lets
+// the whole go at the next step. A resumed run scatters the checkpoint's
+// World back by slab, which gives each rank its particles in the order it
+// held them.
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>

@@ -93,5 +93,38 @@ TEST(H5mdFile, ASecondWriterOfTheSameOutputIsRefused) {
   EXPECT_TRUE(std::filesystem::exists(path));
 }
 
+// A frame written in blocks of rows, in any order (as over ranks), reads
+// back as the same frame written whole; a frame too large for one chunk too.
+TEST(H5mdFile, AFrameWrittenInBlocksOfRowsIsTheWholeFrame) {
+  ScratchDirectory scratch("granflow_h5md_file_test_");
+  const std::string path = (scratch.path / "blocks.h5md").string();
+  const std::size_t rows = 500000;  // 1.5e6 values: chunked by particles
+  std::vector<double> position(3 * rows);
+  for (std::size_t k = 0; k < position.size(); ++k) position[k] = 0.25 * static_cast<double>(k);
+  std::vector<std::int32_t> image(3 * rows);
+  for (std::size_t k = 0; k < image.size(); ++k) image[k] = static_cast<std::int32_t>(k % 7) - 3;
+  {
+    H5mdFile file(path, "io_test");
+    file.append_particle_frame("position", 0, 0.0, position, 3);
+    file.begin_particle_frame("position", 5, 0.5, rows, 3, false);
+    file.write_particle_rows("position", 300000, rows - 300000, position.data() + 3 * 300000);
+    file.write_particle_rows("position", 0, 300000, position.data());
+    file.begin_particle_frame("image", 5, 0.5, rows, 3, true);
+    file.write_particle_rows("image", 7, rows - 7, image.data() + 21);
+    file.write_particle_rows("image", 0, 7, image.data());
+    EXPECT_EQ(file.particles_in_frames("position"), rows);
+    EXPECT_EQ(file.particles_in_frames("velocity"), 0u);
+    file.finish();
+  }
+  const H5mdReader reader(path);
+  EXPECT_EQ(reader.shape("/particles/all/position/value"), (std::vector<std::uint64_t>{2, rows, 3}));
+  EXPECT_EQ(reader.frame("/particles/all/position/value", 1).values, position);
+  EXPECT_EQ(reader.frame("/particles/all/position/value", 0).values, position);
+  EXPECT_EQ(reader.integers("/particles/all/position/step"), (std::vector<std::int64_t>{0, 5}));
+  const auto read_image = reader.frame("/particles/all/image/value", 0).values;
+  EXPECT_EQ(std::vector<double>(image.begin(), image.end()), read_image);
+  EXPECT_EQ(reader.string_attribute("/particles/all/position/value", "unit"), unit::length);
+}
+
 }  // namespace
 }  // namespace granflow
