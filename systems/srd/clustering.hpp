@@ -16,8 +16,9 @@
 //   cluster_size_distribution  clusters of 2^b to 2^(b+1) - 1 particles, b = 0, 1, ...
 // The counts and the sums run in a fixed order; the transform's lines are
 // independent, so the values do not depend on the thread count. Over ranks
-// the count field is put together on the writing rank, which alone
-// analyses it (and sets these observables).
+// each rank transforms its layers of the count field along the other axes;
+// the writing rank puts the field together, transforms it along the slabs'
+// axis and alone analyses it (and sets these observables).
 
 #include <tbb/parallel_for.h>
 
@@ -59,35 +60,44 @@ struct CellGridShape {
   }
 };
 
-// |F(k)|^2 of real cell values on every mode, by one discrete Fourier
-// transform per axis (lines in parallel). Cost N L D for N cells of edge L.
+// The discrete Fourier transform of a field along one axis (lines in
+// parallel). Cost N L for N cells of edge L along the axis.
 template <int D>
-std::vector<double> power_spectrum(const CellGridShape<D>& grid, const std::vector<double>& values) {
-  std::vector<std::complex<double>> field(values.begin(), values.end());
-  for (int axis = 0; axis < D; ++axis) {
-    const auto length = static_cast<std::size_t>(grid.cells[axis]);
-    const std::size_t stride = grid.stride(axis);
-    std::vector<std::complex<double>> twiddle(length);
-    for (std::size_t m = 0; m < length; ++m)
-      twiddle[m] = std::polar(1.0, -2.0 * std::numbers::pi * static_cast<double>(m) / static_cast<double>(length));
-    const std::size_t lines = field.size() / length;
-    tbb::parallel_for(std::size_t{0}, lines, [&](std::size_t line) {
-      // The line's first cell: `line` counts the cells with this axis's index 0.
-      const std::size_t below = line % stride, above = line / stride;
-      const std::size_t first = below + above * stride * length;
-      std::vector<std::complex<double>> in(length), out(length);
-      for (std::size_t j = 0; j < length; ++j) in[j] = field[first + j * stride];
-      for (std::size_t m = 0; m < length; ++m) {
-        std::complex<double> sum = 0.0;
-        for (std::size_t j = 0; j < length; ++j) sum += in[j] * twiddle[(m * j) % length];
-        out[m] = sum;
-      }
-      for (std::size_t m = 0; m < length; ++m) field[first + m * stride] = out[m];
-    });
-  }
+void transform_axis(const CellGridShape<D>& grid, std::vector<std::complex<double>>& field, int axis) {
+  const auto length = static_cast<std::size_t>(grid.cells[axis]);
+  const std::size_t stride = grid.stride(axis);
+  std::vector<std::complex<double>> twiddle(length);
+  for (std::size_t m = 0; m < length; ++m)
+    twiddle[m] = std::polar(1.0, -2.0 * std::numbers::pi * static_cast<double>(m) / static_cast<double>(length));
+  const std::size_t lines = field.size() / length;
+  tbb::parallel_for(std::size_t{0}, lines, [&](std::size_t line) {
+    // The line's first cell: `line` counts the cells with this axis's index 0.
+    const std::size_t below = line % stride, above = line / stride;
+    const std::size_t first = below + above * stride * length;
+    std::vector<std::complex<double>> in(length), out(length);
+    for (std::size_t j = 0; j < length; ++j) in[j] = field[first + j * stride];
+    for (std::size_t m = 0; m < length; ++m) {
+      std::complex<double> sum = 0.0;
+      for (std::size_t j = 0; j < length; ++j) sum += in[j] * twiddle[(m * j) % length];
+      out[m] = sum;
+    }
+    for (std::size_t m = 0; m < length; ++m) field[first + m * stride] = out[m];
+  });
+}
+
+inline std::vector<double> power_of(const std::vector<std::complex<double>>& field) {
   std::vector<double> power(field.size());
   for (std::size_t c = 0; c < field.size(); ++c) power[c] = std::norm(field[c]);
   return power;
+}
+
+// |F(k)|^2 of real cell values on every mode, by one discrete Fourier
+// transform per axis. Cost N L D for N cells of edge L.
+template <int D>
+std::vector<double> power_spectrum(const CellGridShape<D>& grid, const std::vector<double>& values) {
+  std::vector<std::complex<double>> field(values.begin(), values.end());
+  for (int axis = 0; axis < D; ++axis) transform_axis<D>(grid, field, axis);
+  return power_of(field);
 }
 
 struct StructureFactor {
@@ -215,9 +225,10 @@ class ClusteringObserver : public SystemOf<Reads<Position<D>>, Writes<>> {
       counts[c] += 1.0;
     }
     const auto particles = part.total(static_cast<double>(n));
+    const std::vector<double> power = spectrum(part, mine, counts);
     counts = part.whole_field(counts, std::vector<std::int32_t>(grid_.cells.begin(), grid_.cells.end()), 1);
     if (!part.writes()) return;
-    const StructureFactor s = shell_structure_factor<D>(grid_, power_spectrum<D>(grid_, counts), particles);
+    const StructureFactor s = shell_structure_factor<D>(grid_, power, particles);
     const std::vector<double> sizes = cluster_sizes<D>(grid_, counts, cut_);
     double largest = 0.0, sum = 0.0, squares = 0.0;
     std::vector<double> distribution(static_cast<std::size_t>(std::floor(std::log2(std::max(particles, 1.0)))) + 1, 0.0);
@@ -239,6 +250,28 @@ class ClusteringObserver : public SystemOf<Reads<Position<D>>, Writes<>> {
   }
 
  private:
+  // The power spectrum of the whole count field, on the writing rank. Over
+  // ranks each transforms its layers along the other axes, and the writing
+  // rank the whole along the slabs' axis only.
+  std::vector<double> spectrum(const ObservedPart& part, const CellGridShape<D>& mine,
+                               const std::vector<double>& counts) const {
+    if (part.whole()) return power_spectrum<D>(grid_, counts);
+    std::vector<std::complex<double>> field(counts.begin(), counts.end());
+    for (int a = 0; a < D; ++a)
+      if (a != part.axis()) transform_axis<D>(mine, field, a);
+    std::vector<double> parts(2 * field.size());
+    for (std::size_t c = 0; c < field.size(); ++c) {
+      parts[2 * c] = field[c].real();
+      parts[2 * c + 1] = field[c].imag();
+    }
+    parts = part.whole_field(parts, std::vector<std::int32_t>(grid_.cells.begin(), grid_.cells.end()), 2);
+    if (!part.writes()) return {};
+    field.resize(parts.size() / 2);
+    for (std::size_t c = 0; c < field.size(); ++c) field[c] = {parts[2 * c], parts[2 * c + 1]};
+    transform_axis<D>(grid_, field, part.axis());
+    return power_of(field);
+  }
+
   CellGridShape<D> grid_;
   double cut_;
 };
