@@ -74,15 +74,16 @@ H5Handle create_extendible(hid_t parent, const std::string& name, hid_t type, co
                   "create dataset " + name);
 }
 
-// The block of `count` values from `start` of a dataset, from `data`.
+// The block of `count` values from `start` of a dataset, from `data`;
+// `writing` says what in an error ("append to X").
 void write_block(hid_t dataset, hid_t mem_type, const std::vector<hsize_t>& start, const std::vector<hsize_t>& count,
-                 const void* data, const std::string& what) {
+                 const void* data, const std::string& what, const std::string& writing) {
   H5Handle file_space(H5Dget_space(dataset), H5Sclose, "get space of " + what);
   h5_check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
            "select a block of " + what);
   H5Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), H5Sclose,
                         "create memory space");
-  h5_check(H5Dwrite(dataset, mem_type, memory_space, file_space, H5P_DEFAULT, data), "write to " + what);
+  h5_check(H5Dwrite(dataset, mem_type, memory_space, file_space, H5P_DEFAULT, data), writing);
 }
 
 void append_frame(hid_t dataset, hid_t mem_type, hsize_t frame, const void* data, const std::vector<hsize_t>& inner,
@@ -94,7 +95,7 @@ void append_frame(hid_t dataset, hid_t mem_type, hsize_t frame, const void* data
     count.push_back(extent);
   }
   h5_check(H5Dset_extent(dataset, dims.data()), "extend " + what);
-  write_block(dataset, mem_type, start, count, data, what);
+  write_block(dataset, mem_type, start, count, data, what, "append to " + what);
 }
 
 // Rows [first, first + rows) of a frame, of `inner` values each.
@@ -105,7 +106,7 @@ void write_rows(hid_t dataset, hid_t mem_type, hsize_t frame, hsize_t first, hsi
     start.push_back(0);
     count.push_back(inner[k]);
   }
-  write_block(dataset, mem_type, start, count, data, what);
+  write_block(dataset, mem_type, start, count, data, what, "write rows of " + what);
 }
 
 // Reduced units (docs/units.md). MDAnalysis refuses any unit string it does
