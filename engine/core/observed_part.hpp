@@ -64,8 +64,8 @@ class ObservedPart {
   // A field of `width` values per unit cell on a grid of `cells` (x fastest),
   // of which each rank holds its layers along axis() (`mine`, in the whole
   // grid's order restricted to them): the whole field on the writing rank,
-  // nothing on the others. For the whole, `mine` itself.
-  std::vector<double> whole_field(const std::vector<double>& mine, const std::vector<std::int32_t>& cells,
+  // nothing on the others. For the whole, `mine` itself, not copied.
+  std::vector<double> whole_field(std::vector<double> mine, const std::vector<std::int32_t>& cells,
                                   std::size_t width) const {
     if (whole()) return mine;
     std::size_t below = width, layers = 1, above = 1;  // values per layer's run, layers, runs

@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "components/position.hpp"
@@ -226,7 +227,7 @@ class ClusteringObserver : public SystemOf<Reads<Position<D>>, Writes<>> {
     }
     const auto particles = part.total(static_cast<double>(n));
     const std::vector<double> power = spectrum(part, mine, counts);
-    counts = part.whole_field(counts, std::vector<std::int32_t>(grid_.cells.begin(), grid_.cells.end()), 1);
+    counts = part.whole_field(std::move(counts), std::vector<std::int32_t>(grid_.cells.begin(), grid_.cells.end()), 1);
     if (!part.writes()) return;
     const StructureFactor s = shell_structure_factor<D>(grid_, power, particles);
     const std::vector<double> sizes = cluster_sizes<D>(grid_, counts, cut_);
@@ -264,7 +265,7 @@ class ClusteringObserver : public SystemOf<Reads<Position<D>>, Writes<>> {
       parts[2 * c] = field[c].real();
       parts[2 * c + 1] = field[c].imag();
     }
-    parts = part.whole_field(parts, std::vector<std::int32_t>(grid_.cells.begin(), grid_.cells.end()), 2);
+    parts = part.whole_field(std::move(parts), std::vector<std::int32_t>(grid_.cells.begin(), grid_.cells.end()), 2);
     if (!part.writes()) return {};
     field.resize(parts.size() / 2);
     for (std::size_t c = 0; c < field.size(); ++c) field[c] = {parts[2 * c], parts[2 * c + 1]};

@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "components/clock.hpp"
@@ -151,7 +152,7 @@ class SrdFieldWriter : public SrdFieldWriterBase<D>, public Stateful {
       cell[2] += mi * v[i].squaredNorm();
       for (int a = 0; a < D; ++a) cell[3 + a] += mi * v[i][a];
     }
-    sums = part.whole_field(sums, std::vector<std::int32_t>(cells_.begin(), cells_.end()), width);
+    sums = part.whole_field(std::move(sums), std::vector<std::int32_t>(cells_.begin(), cells_.end()), width);
     if (!part.writes()) {
       for (auto* values : {&particles_, &momentum_, &theta_, &theta_samples_, &mass_total_}) std::vector<double>().swap(*values);
       return;
