@@ -520,6 +520,21 @@ void H5mdFile::write_array(const std::string& group_path, const std::string& nam
   write_dataset(group(group_path), name, H5T_NATIVE_DOUBLE, values.data(), {values.size()});
 }
 
+void H5mdFile::create_array(const std::string& group_path, const std::string& name, std::size_t count) {
+  const hsize_t size = count;
+  H5Handle space(H5Screate_simple(1, &size, nullptr), H5Sclose, "create space for " + name);
+  const H5Handle dataset(
+      H5Dcreate2(group(group_path), name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+      H5Dclose, "create dataset " + name);
+}
+
+void H5mdFile::write_array_block(const std::string& group_path, const std::string& name, std::size_t first,
+                                 const std::vector<double>& values) {
+  if (values.empty()) return;
+  H5Handle dataset(H5Dopen2(group(group_path), name.c_str(), H5P_DEFAULT), H5Dclose, "open dataset " + name);
+  write_block(dataset, H5T_NATIVE_DOUBLE, {first}, {values.size()}, values.data(), name, "write to " + name);
+}
+
 void H5mdFile::write_text_array(const std::string& group_path, const std::string& name,
                                 const std::vector<std::string>& values) {
   write_string_dataset(group(group_path), name, values, false);

@@ -66,6 +66,12 @@ class H5mdFile {
   void write_profile(const std::vector<ProfileEntry>& entries);
   // A plain 1D dataset at group_path/name (for checkpoint state).
   void write_array(const std::string& group_path, const std::string& name, const std::vector<double>& values);
+  // The same written in blocks, by a writer that never holds the whole:
+  // create_array makes it `count` values long, write_array_block fills
+  // [first, first + values.size()).
+  void create_array(const std::string& group_path, const std::string& name, std::size_t count);
+  void write_array_block(const std::string& group_path, const std::string& name, std::size_t first,
+                         const std::vector<double>& values);
   void write_text_array(const std::string& group_path, const std::string& name, const std::vector<std::string>& values);
   void write_attribute(const std::string& group, const std::string& name, const std::string& value);
   void write_attribute(const std::string& group, const std::string& name, double value);

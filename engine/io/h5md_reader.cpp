@@ -126,6 +126,24 @@ DoubleArray H5mdReader::doubles(const std::string& dataset_path) const {
   return out;
 }
 
+std::vector<double> H5mdReader::doubles(const std::string& dataset_path, std::uint64_t first,
+                                       std::uint64_t count) const {
+  H5Handle dataset(H5Dopen2(file_, dataset_path.c_str(), H5P_DEFAULT), H5Dclose, "open " + dataset_path);
+  const auto shape = shape_of(dataset, dataset_path);
+  if (shape.size() != 1 || first + count > shape[0])
+    throw H5Error(fmt::format("{} has no values {}..{}", dataset_path, first, first + count));
+  std::vector<double> out(count);
+  if (count == 0) return out;
+  const hsize_t start = first, size = count;
+  H5Handle file_space(H5Dget_space(dataset), H5Sclose, "get space of " + dataset_path);
+  h5_check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, &start, nullptr, &size, nullptr),
+           "select values of " + dataset_path);
+  H5Handle memory_space(H5Screate_simple(1, &size, nullptr), H5Sclose, "create memory space");
+  h5_check(H5Dread(dataset, H5T_NATIVE_DOUBLE, memory_space, file_space, H5P_DEFAULT, out.data()),
+           "read " + dataset_path);
+  return out;
+}
+
 DoubleArray H5mdReader::frame(const std::string& dataset_path, std::uint64_t index) const {
   H5Handle dataset(H5Dopen2(file_, dataset_path.c_str(), H5P_DEFAULT), H5Dclose, "open " + dataset_path);
   const auto shape = shape_of(dataset, dataset_path);

@@ -20,6 +20,8 @@ class H5mdReader {
 
   bool exists(const std::string& object_path) const;
   DoubleArray doubles(const std::string& dataset_path) const;
+  // Values [first, first + count) of a 1D dataset.
+  std::vector<double> doubles(const std::string& dataset_path, std::uint64_t first, std::uint64_t count) const;
   // A dataset's shape, without reading it.
   std::vector<std::uint64_t> shape(const std::string& dataset_path) const;
   std::vector<std::int64_t> integers(const std::string& dataset_path) const;

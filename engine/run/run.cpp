@@ -1,5 +1,7 @@
 #include "engine/run/run.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -25,7 +27,14 @@ Run::Run(const Config& config, Profiler& profiler, std::uint64_t seed, std::size
   world_.emplace_resource<OutputFile>().file = file;
 }
 
-void Run::initial_state(const std::function<void(World&)>& create) {
+void Run::initial_state(const std::function<void(World&)>& create) { initial_state(create, {}); }
+
+namespace {
+// Rows of the particle arrays read at once when a rank picks its own.
+constexpr std::size_t rows_per_read = std::size_t{1} << 18;
+}  // namespace
+
+void Run::initial_state(const std::function<void(World&)>& create, const OwnedOnResume& owned) {
   if (!resume_) {
     create(world_);
     return;
@@ -33,7 +42,50 @@ void Run::initial_state(const std::function<void(World&)>& create) {
   const auto size = resume_->find("world.size");
   if (size == resume_->end() || size->second.size() != 1 || !(size->second[0] >= 0) || size->second[0] > 4e9)
     throw std::invalid_argument("checkpoint has no valid particle count");
-  world_.restore_columns(static_cast<std::size_t>(size->second[0]), state_under(*resume_, "world"));
+  const auto n = static_cast<std::size_t>(size->second[0]);
+  StateMap columns = state_under(*resume_, "world");
+  std::size_t kept = n;
+  if (resume_rows_ && !resume_rows_->empty()) {
+    const auto sizes = resume_rows_->sizes();
+    const auto width_of = [&](const std::string& name) {
+      const std::size_t values = sizes.at(name);
+      if (n == 0 ? values != 0 : values % n != 0)
+        throw std::invalid_argument(fmt::format("checkpoint column '{}' holds {} values for {} particles", name,
+                                                values, n));
+      return n == 0 ? std::size_t{0} : values / n;
+    };
+    const std::string position = "world/" + owned.position;
+    if (owned.owns && sizes.count(position)) {
+      // This rank's rows, found by their positions, block by block.
+      const std::size_t width = width_of(position);
+      std::vector<std::size_t> mine;
+      for (std::size_t first = 0; first < n; first += rows_per_read) {
+        const std::size_t rows = std::min(rows_per_read, n - first);
+        const std::vector<double> x = resume_rows_->read(position, first * width, rows * width);
+        for (std::size_t i = 0; i < rows; ++i)
+          if (owned.owns(&x[i * width])) mine.push_back(first + i);
+      }
+      for (const auto& [name, values] : sizes) {
+        const std::size_t w = width_of(name);
+        std::vector<double>& out = columns[name.substr(6)];
+        out.reserve(mine.size() * w);
+        for (std::size_t k = 0; k < mine.size();) {
+          const std::size_t first = mine[k] - mine[k] % rows_per_read;
+          const std::size_t rows = std::min(rows_per_read, n - first);
+          const std::vector<double> block = resume_rows_->read(name, first * w, rows * w);
+          for (; k < mine.size() && mine[k] < first + rows; ++k) {
+            const auto row = block.begin() + static_cast<std::ptrdiff_t>((mine[k] - first) * w);
+            out.insert(out.end(), row, row + static_cast<std::ptrdiff_t>(w));
+          }
+        }
+      }
+      kept = mine.size();
+      resumed_by_part_ = true;
+    } else {
+      for (const auto& [name, values] : sizes) columns[name.substr(6)] = resume_rows_->read(name, 0, values);
+    }
+  }
+  world_.restore_columns(kept, columns);
   for (const auto& [name, value] : state_under(*resume_, "derived"))
     if (value.size() == 1) derived_.emplace_back(name, value[0]);
 }
@@ -93,11 +145,30 @@ void Run::synchronise_host() {
   for (const auto& system : steps_.systems()) system->synchronise_host(world_);
 }
 
-StateMap Run::save() {
-  synchronise_host();
+StateMap Run::save(RankRows* rows) {
   StateMap out;
-  put_state_under(out, "world", world_.save_columns());
-  out["world.size"] = {static_cast<double>(world_.size())};
+  if (rows) *rows = {};
+  System* lending = nullptr;
+  if (rows && communicator_ && communicator_->size() > 1)
+    for (const auto& system : steps_.systems())
+      if (system->lend_part(world_)) {
+        lending = system.get();
+        break;
+      }
+  if (lending) {
+    rows->count = world_.size();
+    for (auto& [key, values] : world_.save_columns()) {
+      const std::string name = "world/" + key;
+      (holds_particle_rows(name) ? rows->arrays : out)[name] = std::move(values);
+    }
+    world_.emplace_resource<ObservedPart>();
+    lending->take_back_part(world_);
+    out["world.size"] = {static_cast<double>(communicator_->sum(static_cast<std::int64_t>(rows->count)))};
+  } else {
+    synchronise_host();
+    put_state_under(out, "world", world_.save_columns());
+    out["world.size"] = {static_cast<double>(world_.size())};
+  }
   const auto& clock = world_.resource<Clock>();
   out["clock"] = {clock.time, static_cast<double>(clock.step)};
   out["round"] = {round_time_, static_cast<double>(round_step_)};

@@ -30,6 +30,7 @@
 #include "engine/core/state_map.hpp"
 #include "engine/core/trigger.hpp"
 #include "engine/core/world.hpp"
+#include "engine/io/checkpoint_file.hpp"
 #include "engine/run/observable_recorder.hpp"
 #include "engine/run/output_file.hpp"
 #include "engine/run/preparation.hpp"
@@ -64,6 +65,21 @@ class Run {
   // Makes the initial state on a fresh run; restores the World's columns and
   // the derived quantities from the checkpoint when resuming.
   void initial_state(const std::function<void(World&)>& create);
+  // Over ranks, the particles of a resumed World that this rank keeps (its
+  // domain's), told by their position (the `position` column's row): they
+  // are read from the checkpoint by block, and no rank holds the whole.
+  // The World then holds them in the checkpoint's order (resumed_by_part).
+  struct OwnedOnResume {
+    std::string position;
+    std::function<bool(const double* position)> owns;
+  };
+  void initial_state(const std::function<void(World&)>& create, const OwnedOnResume& owned);
+  bool resumed_by_part() const { return resumed_by_part_; }
+  // A kept object's state in the checkpoint being resumed (empty on a fresh
+  // run), before the object exists.
+  StateMap kept_state(const std::string& name) const {
+    return resume_ ? state_under(*resume_, "kept/" + name) : StateMap{};
+  }
   // A quantity computed from the initial state or the configuration, stored
   // under /parameters/derived and carried by checkpoints.
   void derive(const std::string& name, double value);
@@ -139,7 +155,14 @@ class Run {
   // Advances to the end, an error or an interruption. `after_round` runs
   // after every round of observers (checkpoints, progress).
   RunOutcome execute(const std::atomic<bool>* interrupt, const std::function<void()>& after_round = {});
-  StateMap save();  // brings device-resident state to the host first
+  // Brings device-resident state to the host first. Over ranks, where
+  // `rows` is given and the step can lend this rank's particles, they are
+  // not gathered onto rank 0: `rows` gets this rank's rows of the World's
+  // columns (write_checkpoint_by_rank), the state the rest.
+  StateMap save(RankRows* rows = nullptr);
+  // The particle arrays a resumed run's checkpoint left in the file
+  // (read_checkpoint's `rows`), or none.
+  void resume_rows(const CheckpointRows* rows) { resume_rows_ = rows; }
   void write_results(const RunOutcome& outcome);  // box, derived, particle constants, hooks, stop reason
   double progress_fraction() const;
   double work_done() const { return work_ ? work_() : static_cast<double>(world_.resource<Clock>().step); }
@@ -174,6 +197,8 @@ class Run {
   std::uint64_t seed_;
   std::size_t member_;
   const StateMap* resume_;
+  const CheckpointRows* resume_rows_ = nullptr;
+  bool resumed_by_part_ = false;
   H5mdFile* file_;
   World world_;
   Schedule steps_;

@@ -73,11 +73,30 @@ void check_existing_checkpoint(const std::string& path, const Config& config) {
 
 // `exact`: every key but the checkpoint settings must match (an ensemble's
 // finished runs were made with them and cannot be extended).
+// Over ranks the particle arrays stay in the file, for each rank to read its
+// own (Run::initial_state). Rank 0 checks the file whole, reading them
+// through in blocks, before the others read what they need.
+CheckpointContents read_checkpoint_on(const Communicator* ranks, const std::string& path) {
+  if (!ranks || ranks->size() < 2) return read_checkpoint(path);
+  std::optional<CheckpointContents> contents;
+  std::string refusal;
+  if (ranks->rank() == 0) {
+    try {
+      contents = read_checkpoint(path, {true, true});
+    } catch (const InputError& error) {
+      refusal = error.what();
+    }
+  }
+  if (!ranks->from_first(refusal.empty())) throw InputError(refusal.empty() ? "--resume: refused on rank 0" : refusal);
+  if (ranks->rank() > 0) contents = read_checkpoint(path, {true, false});
+  return std::move(*contents);
+}
+
 CheckpointContents load_for_resume(const std::string& path, const ConfigSchema& schema, const Config& config,
-                                   bool exact = false) {
+                                   bool exact = false, const Communicator* ranks = nullptr) {
   if (!std::filesystem::exists(path))
     throw InputError(fmt::format("--resume: there is no checkpoint '{}' to resume from", path));
-  CheckpointContents contents = read_checkpoint(path);
+  CheckpointContents contents = read_checkpoint_on(ranks, path);
   Config stored;
   try {
     stored = Config::from_toml_text(schema, contents.configuration, path);
@@ -142,7 +161,7 @@ int single_run(const Scenario& scenario, const Config& config, const RunOptions&
   check_output_path(output);
   std::optional<CheckpointContents> resumed;
   if (options.resume)
-    resumed = load_for_resume(checkpoint, config.schema(), config);
+    resumed = load_for_resume(checkpoint, config.schema(), config, false, ranks);
   else
     check_existing_checkpoint(checkpoint, config);
   if (writer && std::filesystem::exists(output)) spdlog::info("replacing the existing result file '{}'", output);
@@ -163,6 +182,7 @@ int single_run(const Scenario& scenario, const Config& config, const RunOptions&
   Run run(config, profiler, static_cast<std::uint64_t>(config.integer("run.seed")), 0,
           resumed ? &resumed->state : nullptr, file ? &*file : nullptr);
   run.on_ranks(ranks);
+  if (resumed) run.resume_rows(&resumed->rows);
   {
     Progress setup(scenario.name + " setup", "", options.progress && writer);
     run.on_setup_progress([&setup](const std::string& phase, double fraction) { setup.update(fraction, 0.0, phase); });
@@ -202,9 +222,18 @@ int single_run(const Scenario& scenario, const Config& config, const RunOptions&
   if (options.log_every > 0 && writer) log.emplace(options.log_every, options.log_observables, run.recorder());
   const double interval = config.real("output.checkpoint_interval");
   auto last_checkpoint = std::chrono::steady_clock::now();
+  // Collective over ranks: every rank takes part. Where the step lends each
+  // rank's particles, they are written by rank, never gathered whole.
+  const auto write_state = [&](const StateMap& state, const RankRows& rows) {
+    if (!rows.arrays.empty())
+      write_checkpoint_by_rank(checkpoint, scenario.name, config, state, rows, *ranks);
+    else if (writer)
+      write_checkpoint(checkpoint, scenario.name, config, state);
+  };
   const auto save_checkpoint = [&] {
-    const StateMap state = run.save();  // collective over ranks: every rank takes part
-    if (writer) write_checkpoint(checkpoint, scenario.name, config, state);
+    RankRows rows;
+    const StateMap state = run.save(ranks ? &rows : nullptr);
+    write_state(state, rows);
   };
   const auto after_round = [&] {
     progress.update(run.progress_fraction(), run.work_done());
@@ -227,15 +256,16 @@ int single_run(const Scenario& scenario, const Config& config, const RunOptions&
   run.write_results(outcome);
   // Taken while the file is open: the checkpoint carries the frames it holds.
   std::optional<StateMap> final_state;
-  if (config.boolean("output.final_checkpoint")) final_state = run.save();
+  RankRows final_rows;
+  if (config.boolean("output.final_checkpoint")) final_state = run.save(ranks ? &final_rows : nullptr);
   if (file) {
     file->write_profile(profiler.entries());
     file->finish();
-    if (final_state)
-      write_checkpoint(checkpoint, scenario.name, config, *final_state);
-    else
-      std::filesystem::remove(checkpoint);
   }
+  if (final_state)
+    write_state(*final_state, final_rows);
+  else if (file)
+    std::filesystem::remove(checkpoint);
   if (options.profile && writer) fmt::print("{}", profiler.table());
   if (writer) spdlog::info("wrote {} (t = {:.6g}: {})", output, run.clock().time, outcome.reason);
   if (outcome.kind == RunOutcome::Kind::failed) {

@@ -40,13 +40,14 @@
 // particles, and its grid's cells as the reduction left them before the
 // rotation, into the World, and the observers total their sums over the
 // ranks (engine/core/observed_part.hpp). No rank holds the whole system
-// then. A checkpoint, or an observer that cannot run by rank, reads the
-// whole on rank 0: synchronise_host gathers every rank's particles into
-// it, in rank order, with the whole grid's cells, as on one rank; rank 0
-// observes alone and shares its decisions (Run::run_observers), and lets
-// the whole go at the next step. A resumed run scatters the checkpoint's
-// World back by slab, which gives each rank its particles in the order it
-// held them.
+// then. A checkpoint is written from the same lent parts, each rank's rows
+// in rank order (write_checkpoint_by_rank), and a resumed run reads each
+// rank's slab back from it by block (Run::initial_state), in the order it
+// held them. An observer that cannot run by rank reads the whole on rank
+// 0: synchronise_host gathers every rank's particles into it, in rank
+// order, with the whole grid's cells, as on one rank; rank 0 observes alone
+// and shares its decisions (Run::run_observers), and lets the whole go at
+// the next step.
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>

@@ -258,11 +258,24 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = 
   // Particle frames follow ids given in the order of the initial state
   // (a stored one's order), before the binning sorts the particles.
   const bool frames = c.schema().find("output.positions") && c.text("output.positions") != "none";
-  // Over ranks a generated fluid is made by slab; a stored one is read
-  // whole, and a resumed run's World comes whole from its checkpoint.
+  // Over ranks a generated fluid is made by slab, and a resumed run's World
+  // is read by slab from its checkpoint; a stored one is read whole.
   const bool on_ranks = run.communicator() && run.communicator()->size() > 1;
   const int by_slab_axis = slab_axis_of<D>(cells, periodic, rate);
   bool by_slab = false;
+  Run::OwnedOnResume owned;
+  if (on_ranks && by_slab_axis >= 0) {
+    // The slabs the step starts from (SrdDomainStep::scatter): the
+    // checkpoint's where it was written on as many ranks, else equal ones.
+    constexpr const char* axis_names[3] = {"x", "y", "z"};
+    SlabDomain slab(run.communicator()->rank(), run.communicator()->size(), cells[by_slab_axis],
+                    axis_names[by_slab_axis]);
+    SlabBounds kept;
+    kept.restore_state(run.kept_state("slab_bounds"));
+    if (kept.bounds.size() == slab.bounds.size()) slab.bounds = kept.bounds;
+    owned = {Position<D>::key,
+             [slab, by_slab_axis](const double* x) { return slab.owner(x[by_slab_axis]) == slab.rank; }};
+  }
   run.initial_state([&](World& world) {
     by_slab = on_ranks && by_slab_axis >= 0 && !starts_from_stored_state(c);
     world.resize(by_slab ? 0 : n);
@@ -333,7 +346,8 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = 
     }
     SrdCells<D> unshifted(cells, world.size());
     SrdCellBinning<D>::sort(world, unshifted);
-  });
+  }, owned);
+  by_slab = by_slab || run.resumed_by_part();
   // The cells of the current state, so that observers at the start see them.
   const bool walled = !walls.empty();
   auto& state = run.world().template emplace_resource<SrdCells<D>>(cells, run.world().size(), std::move(walls));

@@ -8,7 +8,8 @@
 #    1e-9), and integer ones exactly;
 #  - on a given number of ranks the result does not depend on the threads;
 #  - no rank holds the whole system: each one's memory grows with the
-#    system well below one process's (the observers run on every rank);
+#    system well below one process's (the observers run on every rank,
+#    checkpoints are written by rank and read back by slab);
 #  - a finished 2-rank run extended with --resume on 2 ranks equals one
 #    2-rank run bit for bit, and extended on 3 ranks equals a 3-rank run to
 #    round-off; /provenance records the ranks of each segment;
@@ -55,7 +56,8 @@ thin=(--set 'system.cells=[8,8,3]' --set srd.temperature=3000 --set run.steps=30
 ranks 3 run "$cooling" "${thin[@]}" -o "$work/ranks3_thin.h5" || fail "3 ranks (thin) exited with $?"
 agree "$work/one_thin.h5" "$work/ranks3_thin.h5" 1e-9
 # Every observer runs on every rank over its own particles, frames and
-# fields included: no round gathers the system onto rank 0 (checkpoints do).
+# fields included: no round gathers the system onto rank 0, nor does a
+# checkpoint.
 no_gather() {  # FILE
   /usr/bin/python3 - "$1" <<'PY' || failures=$((failures + 1))
 import h5py, sys
@@ -76,12 +78,17 @@ import h5py, sys
 f = h5py.File('$work/ranks3_3d.h5', 'r')
 sys.exit(0 if f['parameters/derived'].attrs['ranks'] == 3 else 'FAIL: ranks not recorded')" && echo "ok: the rank count is recorded" \
   || failures=$((failures + 1))
-# No rank holds the whole system: each makes its slab from the start,
-# and the observers run on every rank over its own particles. Each rank's
-# memory beyond a run of 64 cells on as many ranks, at 6.4e5 particles on
-# 2 ranks, against one process's beyond its run of 64 cells: 0.65 and 0.68
-# now; rank 0 was 1.1 when it gathered the whole to observe, and every rank
-# 1.0 when each built the whole. 0.8 leaves room for the allocator.
+# No rank holds the whole system: each makes its slab from the start, the
+# observers run on every rank over its own particles, the final checkpoint
+# is written by rank, and a resumed run reads its slab back by block. Each
+# rank's memory beyond a run of 64 cells on as many ranks, at 6.4e5
+# particles on 2 ranks, against one process's beyond its run of 64 cells,
+# both writing a final checkpoint: 0.56 and 0.50 now; rank 0 was 1.27 when
+# it gathered the whole for the checkpoint, 1.1 when it gathered the whole
+# to observe, and every rank 1.0 when each built the whole. The same runs
+# extended by --resume: 0.50 and 0.38 now; 1.30 and 0.81 when every rank
+# read the whole checkpoint and rank 0 gathered it again to write the
+# next. 0.8 leaves room for the allocator.
 peaks() {  # NP ARGS...: "rank kB exit-code" per rank (each rank writes its own line: no interleaving)
   local np=$1
   shift
@@ -92,23 +99,34 @@ code = subprocess.run(sys.argv[2:]).returncode
 rank = os.environ['OMPI_COMM_WORLD_RANK']
 with open(f'{sys.argv[1]}/peak.{rank}', 'w') as out:
     print(rank, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss, code, file=out)
-" "$work" "$granflow" run "$cooling" --set run.steps=20 -q --threads 1 -o "$work/memory.h5" "$@"
+" "$work" "$granflow" run "$cooling" --set output.final_checkpoint=true -q --threads 1 -o "$work/memory.h5" "$@"
   cat "$work"/peak.*
 }
-/usr/bin/python3 - "$(peaks 1 --set 'system.cells=[4,4,4]')" "$(peaks 1 --set 'system.cells=[40,40,40]')" \
-  "$(peaks 2 --set 'system.cells=[4,4,4]')" "$(peaks 2 --set 'system.cells=[40,40,40]')" <<'PY' || failures=$((failures + 1))
+memory=()
+for np in 1 2; do
+  for cells in '[4,4,4]' '[40,40,40]'; do
+    rm -f "$work/memory.h5.checkpoint"
+    memory+=("$(peaks "$np" --set "system.cells=$cells" --set run.steps=20)")
+    memory+=("$(peaks "$np" --set "system.cells=$cells" --set run.steps=30 --resume)")
+  done
+done
+/usr/bin/python3 - "${memory[@]}" <<'PY' || failures=$((failures + 1))
 import sys
 def rows(text):
     out = {int(r): (int(kb), int(code)) for r, kb, code in (line.split() for line in text.splitlines())}
     if any(code != 0 for _, code in out.values()): sys.exit(f"FAIL: a memory run exited with {out}")
     return {r: kb for r, (kb, _) in out.items()}
-small1, whole, small2, split = (rows(t) for t in sys.argv[1:5])
-growth = whole[0] - small1[0]
-for rank in (0, 1):
-    share = (split[rank] - small2[rank]) / growth
-    if share > 0.8: sys.exit(f"FAIL: rank {rank} grows by {share:.2f} of one process's growth: it holds more than its slab")
-    print(f"ok: rank {rank} grows by {share:.2f} of one process's growth ({(split[rank] - small2[rank]) // 1024} "
-          f"of {growth // 1024} MB)")
+runs = [rows(t) for t in sys.argv[1:9]]
+for k, what in ((0, "a run"), (1, "its extension by --resume")):
+    small1, whole, small2, split = runs[k], runs[2 + k], runs[4 + k], runs[6 + k]
+    growth = whole[0] - small1[0]
+    for rank in (0, 1):
+        share = (split[rank] - small2[rank]) / growth
+        if share > 0.8:
+            sys.exit(f"FAIL: in {what}, rank {rank} grows by {share:.2f} of one process's growth: it holds more than "
+                     "its slab")
+        print(f"ok: in {what}, rank {rank} grows by {share:.2f} of one process's growth "
+              f"({(split[rank] - small2[rank]) // 1024} of {growth // 1024} MB)")
 PY
 ranks 2 run "$cooling" "${three_d[@]}" --threads 1 -o "$work/ranks2_threads1.h5" || fail "2 ranks x 1 thread exited with $?"
 agree "$work/ranks2_3d.h5" "$work/ranks2_threads1.h5" 0
@@ -124,6 +142,9 @@ for k in 2 3; do
 done
 agree "$work/whole2.h5" "$work/extended2.h5" 0
 agree "$work/whole3.h5" "$work/extended3.h5" 1e-9
+# The rounds of a resumed run gather nothing either (the memory check
+# above shows that checkpoints are written and read by rank).
+no_gather "$work/extended3.h5"
 /usr/bin/python3 - "$work/extended3.h5" <<'PY' || failures=$((failures + 1))
 import sys, h5py
 p = h5py.File(sys.argv[1], "r")["provenance"]
@@ -147,6 +168,7 @@ ranks 2 run "$cooling" "${big[@]}" --set output.checkpoint_interval=1 -o "$work/
   || fail "--resume after the killed rank exited with $?"
 ranks 2 run "$cooling" "${big[@]}" --set output.checkpoint_interval=1 -o "$work/unkilled.h5" || fail "2-rank reference exited with $?"
 agree "$work/unkilled.h5" "$work/killed.h5" 0
+no_gather "$work/unkilled.h5"
 
 # Between walls, and under Lees-Edwards shear. The energy balance error is
 # itself round-off (1e-14 of the energies): it is checked against the

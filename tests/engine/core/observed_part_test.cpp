@@ -6,30 +6,10 @@
 
 #include <gtest/gtest.h>
 
-#include <deque>
+#include "tests/first_of_two.hpp"
 
 namespace granflow {
 namespace {
-
-// Rank 0 of two; what rank 1 sends to each collective call, in order.
-class FirstOfTwo final : public Communicator {
- public:
-  mutable std::deque<std::vector<double>> from_second;
-  int rank() const override { return 0; }
-  int size() const override { return 2; }
-  Received exchange_with_neighbours(int, const std::vector<double>&, int, const std::vector<double>&,
-                                    int) const override {
-    return {};
-  }
-  std::vector<double> gather_all(const std::vector<double>& mine) const override {
-    std::vector<double> all = mine;
-    all.insert(all.end(), from_second.front().begin(), from_second.front().end());
-    from_second.pop_front();
-    return all;
-  }
-  std::int64_t sum(std::int64_t value) const override { return value; }
-  bool from_first(bool value) const override { return value; }
-};
 
 // Value of cell (x, y, z) on a 3 x 2 x 4 grid, x fastest.
 double cell_value(int x, int y, int z) { return 100.0 * z + 10.0 * y + x; }

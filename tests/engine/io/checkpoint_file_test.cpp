@@ -11,6 +11,9 @@
 
 #include "engine/core/config.hpp"
 #include "engine/core/input_error.hpp"
+#include "engine/io/file_seal.hpp"
+#include "engine/io/h5md_reader.hpp"
+#include "tests/first_of_two.hpp"
 #include "tests/scratch_directory.hpp"
 
 namespace granflow {
@@ -62,6 +65,88 @@ TEST(CheckpointFile, ADamagedOrMissingFileIsRefusedByName) {
     EXPECT_NE(std::string(error.what()).find(path), std::string::npos) << error.what();
   }
   EXPECT_THROW(read_checkpoint((scratch.path / "absent.checkpoint").string()), InputError);
+}
+
+// Over ranks the particle arrays are written block by block as the ranks
+// send their rows, and read back by block: the file is the one a single
+// writer of the whole state makes, checksum included. Rank 1's 300 000
+// rows span two blocks of 2^18, so that a block takes rows of both ranks.
+TEST(CheckpointFile, RowsWrittenByRankMakeTheFileOfTheWholeState) {
+  ScratchDirectory scratch("granflow_checkpoint_test_");
+  const std::string by_rank = (scratch.path / "by_rank.checkpoint").string();
+  const std::string whole_path = (scratch.path / "whole.checkpoint").string();
+  const ConfigSchema s = schema();
+  const Config config(s);
+  const std::size_t theirs = 300000;
+  RankRows mine{2, {{"world/position", {0.5, 1.5, 2.5, 3.5, 4.5, 5.5}}, {"world/id", {7.0, 3.0}}}};
+  std::vector<double> their_positions(3 * theirs), their_ids(theirs);
+  for (std::size_t i = 0; i < 3 * theirs; ++i) their_positions[i] = 0.25 * static_cast<double>(i) - 1e5;
+  for (std::size_t i = 0; i < theirs; ++i) their_ids[i] = static_cast<double>(i + 100);
+  const StateMap state{{"clock", {0.5, 12.0}},
+                       {"world.size", {static_cast<double>(2 + theirs)}},
+                       {"world/id.width", {1.0}},
+                       {"world/position.width", {3.0}},
+                       {"zeta", {-1.0}}};
+  StateMap whole = state;
+  for (const auto& [name, values] : mine.arrays) whole[name] = values;
+  whole["world/position"].insert(whole["world/position"].end(), their_positions.begin(), their_positions.end());
+  whole["world/id"].insert(whole["world/id"].end(), their_ids.begin(), their_ids.end());
+
+  FirstOfTwo ranks;
+  const auto rows_from = [](const std::vector<double>& values, std::size_t first, std::size_t last) {
+    return std::vector<double>(values.begin() + static_cast<std::ptrdiff_t>(first),
+                               values.begin() + static_cast<std::ptrdiff_t>(last));
+  };
+  const std::size_t block = std::size_t{1} << 18;  // rows; rank 0 holds rows 0 and 1
+  ranks.from_second = {{static_cast<double>(theirs)},
+                       {static_cast<double>(theirs)},  // world/id, in name order
+                       rows_from(their_ids, 0, block - 2),
+                       rows_from(their_ids, block - 2, theirs),
+                       {static_cast<double>(3 * theirs)},
+                       rows_from(their_positions, 0, 3 * (block - 2)),
+                       rows_from(their_positions, 3 * (block - 2), 3 * theirs)};
+  write_checkpoint_by_rank(by_rank, "io_test", config, state, mine, ranks);
+  EXPECT_TRUE(ranks.from_second.empty());
+  write_checkpoint(whole_path, "io_test", config, whole);
+
+  EXPECT_EQ(H5mdReader(by_rank).string_attribute("/checkpoint", "checksum"),
+            H5mdReader(whole_path).string_attribute("/checkpoint", "checksum"));
+  EXPECT_EQ(read_checkpoint(by_rank).state, whole);
+
+  const CheckpointContents in_file = read_checkpoint(by_rank, {true, true});
+  EXPECT_EQ(in_file.state, state);
+  ASSERT_EQ(in_file.rows.sizes(), (std::map<std::string, std::size_t>{{"world/id", 2 + theirs},
+                                                                       {"world/position", 3 * (2 + theirs)}}));
+  EXPECT_EQ(in_file.rows.read("world/position", 3, 6), rows_from(whole.at("world/position"), 3, 9));
+  EXPECT_EQ(in_file.rows.read("world/id", block, 5), rows_from(whole.at("world/id"), block, block + 5));
+}
+
+// A value changed in an array left in the file is caught by the checksum,
+// which reads it through in blocks.
+TEST(CheckpointFile, ADamagedRowArrayIsRefusedWhenReadByBlock) {
+  ScratchDirectory scratch("granflow_checkpoint_test_");
+  const std::string path = (scratch.path / "rows.checkpoint").string();
+  const ConfigSchema s = schema();
+  write_checkpoint(path, "io_test", Config(s),
+                   {{"world.size", {4.0}}, {"world/position", {1.0, 2.0, 3.0, 4.0}}, {"world/position.width", {1.0}}});
+  EXPECT_NO_THROW(read_checkpoint(path, {true, true}));
+  {
+    const H5mdReader reader(path);
+    ASSERT_EQ(reader.string_array("/checkpoint/names")[1], "world/position");
+  }
+  // Rewritten in place through HDF5, then resealed, as a tool editing the
+  // file on purpose would: only the checksum tells the change.
+  std::vector<double> changed{1.0, 2.0, 3.0, 4.5};
+  {
+    H5Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose, "open");
+    H5Handle dataset(H5Dopen2(file, "/checkpoint/values/1", H5P_DEFAULT), H5Dclose, "open values");
+    ASSERT_GE(H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, changed.data()), 0);
+  }
+  seal_file(path);
+  EXPECT_THROW(read_checkpoint(path, {true, true}), InputError);
+  EXPECT_THROW(read_checkpoint(path), InputError);
+  // A rank that leaves the checking to rank 0 reads it as it stands.
+  EXPECT_EQ(read_checkpoint(path, {true, false}).rows.read("world/position", 0, 4), changed);
 }
 
 }  // namespace
