@@ -264,5 +264,14 @@ refused 'srd.device = "thrust_host"' 2 run "$cooling" --set srd.device=thrust_ho
 refused "has no distributed step" 2 run "$scenarios/haff_cooling.toml"
 refused "cannot split 2 cells along z" 3 run "$cooling" --set 'system.cells=[2,2,2]'
 refused "ensemble of independent runs" 2 run "$cooling" --set run.runs=2
+# A checkpoint damaged after it was written: rank 0 checks it whole before
+# any rank reads its slab, and the resume is refused once.
+cp "$work/whole2.h5.checkpoint" "$work/refused.h5.checkpoint"
+/usr/bin/python3 -c "
+import sys
+with open(sys.argv[1], 'r+b') as f:
+    f.seek(-4096, 2); byte = f.read(1); f.seek(-4096, 2); f.write(bytes([byte[0] ^ 0x5a]))" "$work/refused.h5.checkpoint"
+refused "is not a usable checkpoint" 2 run "$cooling" "${long[@]}" --resume
+rm -f "$work/refused.h5.checkpoint"
 
 exit $((failures > 0))
