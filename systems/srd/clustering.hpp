@@ -20,6 +20,7 @@
 // the writing rank puts the field together, transforms it along the slabs'
 // axis and alone analyses it (and sets these observables).
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -39,6 +40,7 @@
 #include "engine/core/units.hpp"
 #include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
+#include "systems/srd/fourier_line.hpp"
 
 namespace granflow::srd {
 
@@ -62,27 +64,23 @@ struct CellGridShape {
 };
 
 // The discrete Fourier transform of a field along one axis (lines in
-// parallel). Cost N L for N cells of edge L along the axis.
+// parallel, each by fourier_line.hpp). Cost N times the sum of the prime
+// factors of the axis's edge L (N L where L is prime) for N cells.
 template <int D>
 void transform_axis(const CellGridShape<D>& grid, std::vector<std::complex<double>>& field, int axis) {
   const auto length = static_cast<std::size_t>(grid.cells[axis]);
   const std::size_t stride = grid.stride(axis);
-  std::vector<std::complex<double>> twiddle(length);
-  for (std::size_t m = 0; m < length; ++m)
-    twiddle[m] = std::polar(1.0, -2.0 * std::numbers::pi * static_cast<double>(m) / static_cast<double>(length));
+  const FourierLine line_transform(length);
   const std::size_t lines = field.size() / length;
-  tbb::parallel_for(std::size_t{0}, lines, [&](std::size_t line) {
-    // The line's first cell: `line` counts the cells with this axis's index 0.
-    const std::size_t below = line % stride, above = line / stride;
-    const std::size_t first = below + above * stride * length;
-    std::vector<std::complex<double>> in(length), out(length);
-    for (std::size_t j = 0; j < length; ++j) in[j] = field[first + j * stride];
-    for (std::size_t m = 0; m < length; ++m) {
-      std::complex<double> sum = 0.0;
-      for (std::size_t j = 0; j < length; ++j) sum += in[j] * twiddle[(m * j) % length];
-      out[m] = sum;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, lines, 64), [&](const tbb::blocked_range<std::size_t>& range) {
+    std::vector<std::complex<double>> out(length);
+    for (std::size_t line = range.begin(); line != range.end(); ++line) {
+      // The line's first cell: `line` counts the cells with this axis's index 0.
+      const std::size_t below = line % stride, above = line / stride;
+      const std::size_t first = below + above * stride * length;
+      line_transform.transform(&field[first], stride, out.data());
+      for (std::size_t m = 0; m < length; ++m) field[first + m * stride] = out[m];
     }
-    for (std::size_t m = 0; m < length; ++m) field[first + m * stride] = out[m];
   });
 }
 
@@ -93,7 +91,7 @@ inline std::vector<double> power_of(const std::vector<std::complex<double>>& fie
 }
 
 // |F(k)|^2 of real cell values on every mode, by one discrete Fourier
-// transform per axis. Cost N L D for N cells of edge L.
+// transform per axis.
 template <int D>
 std::vector<double> power_spectrum(const CellGridShape<D>& grid, const std::vector<double>& values) {
   std::vector<std::complex<double>> field(values.begin(), values.end());
