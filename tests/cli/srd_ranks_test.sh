@@ -29,8 +29,9 @@
 #  - load balance: the slabs' bounds move to even out the particles of a
 #    fluid denser at one end, with the one-rank result to round-off and a
 #    resume bit for bit across a rebalance;
-#  - failed physics (a particle stranded on a wall) ends every rank with
-#    exit 3 and one diagnosis;
+#  - failed physics (a particle stranded on a wall; a velocity that blows
+#    the temperature up) ends every rank with exit 3 and one diagnosis;
+#  - a damaged checkpoint is refused once, before any rank reads its slab;
 #  - what is not distributed is refused once, on rank 0, with exit status 2.
 set -u
 source "$(dirname "$0")/ranks_common.sh"  # GRANFLOW MPIEXEC SCENARIOS
@@ -257,6 +258,27 @@ if [[ $status -eq 3 && $said -eq 1 ]] && "$granflow" info "$work/failed.h5md" 2>
   echo "ok: failed physics on 2 ranks: exit 3, said once, the file marked"
 else
   fail "failed physics on 2 ranks: exit $status, said $said times: $output"
+fi
+
+# A velocity that blows up (one particle of a stored start at 1e200): the
+# watchdog sees the temperature's totals over the ranks turn infinite, and
+# every rank stops at once with exit 3, the diagnosis said once.
+/usr/bin/python3 - "$work/even.h5" "$work/blown.h5" <<'PY' || fail "could not write the blown-up state"
+import shutil, sys, h5py
+shutil.copy(sys.argv[1], sys.argv[2])
+with h5py.File(sys.argv[2], "r+") as f:
+    v = f["particles/all/velocity/value"]
+    values = v[()]
+    values[-1, 7] = [1e200, 0.0, 0.0]
+    v[...] = values
+PY
+output=$(ranks 2 run "$cooling" -q --set 'system.cells=[8,8,24]' --set run.steps=20 --set initial.from="$work/blown.h5" \
+  -o "$work/blown_run.h5" 2>&1); status=$?
+said=$(grep -c "error: the SRD run failed at t = 0 (step 0): the fluid's temperature is not finite" <<< "$output")
+if [[ $status -eq 3 && $said -eq 1 ]] && "$granflow" info "$work/blown_run.h5" 2>/dev/null | grep -q "stop_reason.*temperature is not finite"; then
+  echo "ok: a non-finite temperature on 2 ranks: exit 3, said once, the file marked"
+else
+  fail "a non-finite temperature on 2 ranks: exit $status, said $said times: $output"
 fi
 
 # Refused, once, with the reason.
