@@ -250,8 +250,17 @@ int single_run(const Scenario& scenario, const Config& config, const RunOptions&
   progress.finish();
   if (outcome.kind == RunOutcome::Kind::interrupted) {
     save_checkpoint();
-    if (writer) report_interruption(guard->signal_number(), checkpoint, fmt::format("at t = {:.6g}", run.clock().time));
-    return exit_interrupted(guard->signal_number());
+    // Over ranks the signal may have reached one rank alone (a scheduler's
+    // kill of one process): every rank reports the first rank's that did.
+    int signal_number = guard->signal_number();
+    if (ranks && ranks->size() > 1)
+      for (const double received : ranks->gather_all({static_cast<double>(signal_number)}))
+        if (received > 0) {
+          signal_number = static_cast<int>(received);
+          break;
+        }
+    if (writer) report_interruption(signal_number, checkpoint, fmt::format("at t = {:.6g}", run.clock().time));
+    return exit_interrupted(signal_number);
   }
   run.write_results(outcome);
   // Taken while the file is open: the checkpoint carries the frames it holds.

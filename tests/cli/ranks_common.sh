@@ -87,3 +87,27 @@ killed() {
   if [[ $status -ne 0 && -e "$out.checkpoint" && -n "$victim" ]]; then echo "ok: a killed rank ended the job (mpirun exit $status)"
   else fail "killed rank: exit $status, victim '${victim}', files: $(ls "$(dirname "$out")" | tr '\n' ' ')"; fi
 }
+
+# terminated K OUT ARGS...: `granflow ARGS -o OUT` on K ranks, SIGTERM to
+# the last rank alone (as a scheduler may signal one process): every rank
+# stops at one step, rank 0 writes the checkpoint and says which signal
+# once, the job exits with 128 + 15, and no result file is left.
+terminated() {
+  local k="$1" out="$2"; shift 2
+  ranks "$k" "$@" -o "$out" > "$out.log" 2>&1 &
+  local launcher=$!
+  for _ in $(seq 1 1500); do [[ -e "$out.partial" ]] && break; sleep 0.02; done
+  sleep 2
+  local victim="" pid
+  for pid in $(pgrep -f "^$granflow .*-o $out"); do
+    grep -qxz "OMPI_COMM_WORLD_RANK=$((k - 1))" "/proc/$pid/environ" 2>/dev/null && victim=$pid
+  done
+  [[ -n "$victim" ]] && kill -TERM "$victim"
+  wait "$launcher"; local status=$?
+  if [[ $status -eq 143 && -n "$victim" && -e "$out.checkpoint" && ! -e "$out" && ! -e "$out.partial" ]] \
+     && [[ $(grep -c "interrupted (signal 15)" "$out.log") -eq 1 ]]; then
+    echo "ok: SIGTERM to rank $((k - 1)) alone stopped the $k ranks with one checkpoint and one message (exit 143)"
+  else
+    fail "SIGTERM to one rank: exit $status, victim '$victim', files: $(ls "$(dirname "$out")" | tr '\n' ' '), log: $(cat "$out.log")"
+  fi
+}

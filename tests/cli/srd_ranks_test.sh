@@ -15,7 +15,8 @@
 #    round-off; /provenance records the ranks of each segment;
 #  - SIGINT to mpirun (which sends the ranks SIGTERM) stops every rank at
 #    one step with a checkpoint and no result file, and --resume on 3 ranks
-#    finishes it; a rank killed with
+#    finishes it; SIGTERM to one rank alone stops them all alike, and the
+#    run resumes bit for bit; a rank killed with
 #    SIGKILL ends the job, and --resume from the last periodic checkpoint
 #    gives the uninterrupted result bit for bit;
 #  - between walls (the slabs then lie along a periodic axis): Poiseuille
@@ -170,6 +171,11 @@ ranks 2 run "$cooling" "${big[@]}" --set output.checkpoint_interval=1 -o "$work/
 ranks 2 run "$cooling" "${big[@]}" --set output.checkpoint_interval=1 -o "$work/unkilled.h5" || fail "2-rank reference exited with $?"
 agree "$work/unkilled.h5" "$work/killed.h5" 0
 no_gather "$work/unkilled.h5"
+# SIGTERM to one rank alone: the ranks agree on it at the next step.
+terminated 2 "$work/termed.h5" run "$cooling" "${big[@]}" --set output.checkpoint_interval=1
+ranks 2 run "$cooling" "${big[@]}" --set output.checkpoint_interval=1 -o "$work/termed.h5" --resume \
+  || fail "--resume after SIGTERM to one rank exited with $?"
+agree "$work/unkilled.h5" "$work/termed.h5" 0
 
 # Between walls, and under Lees-Edwards shear. The energy balance error is
 # itself round-off (1e-14 of the energies): it is checked against the
