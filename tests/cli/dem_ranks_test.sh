@@ -12,8 +12,9 @@
 #    process and extended on 2, equal the uninterrupted one-rank run;
 #  - SIGINT to mpirun stops every rank at one step with one checkpoint and
 #    no result file, and 3 ranks finish the run; a rank killed outright ends
-#    the job, and its last periodic checkpoint resumes it: both equal the
-#    uninterrupted one-rank run;
+#    the job, and its last periodic checkpoint resumes it; SIGTERM to one
+#    rank alone stops all three alike and 2 ranks finish the run: all equal
+#    the uninterrupted one-rank run;
 #  - what the step does not offer, and more ranks than layers, are refused
 #    once, on rank 0, with exit status 2.
 set -u
@@ -64,7 +65,8 @@ ranks 2 run "$deep" "${whole[@]}" -q -o "$work/deep_1to2.h5" --resume || fail "2
 agree "$work/deep_whole.h5" "$work/deep_1to2.h5" 0
 
 # SIGINT on 2 ranks, finished on 3; a rank killed outright, resumed from
-# the last periodic checkpoint: both give the one-rank result bit for bit.
+# the last periodic checkpoint; SIGTERM to the last of 3 ranks alone,
+# finished on 2: all give the one-rank result bit for bit.
 long_bed=(--set run.t_stop=12 --set output.average_after=6 -q)
 "$granflow" run "$bed" "${long_bed[@]}" -o "$work/bed_whole.h5" || fail "one-rank reference exited with $?"
 interrupted 2 "$work/bed_cut.h5" run "$bed" "${long_bed[@]}"
@@ -74,6 +76,9 @@ killed 2 "$work/bed_killed.h5" run "$bed" "${long_bed[@]}" --set output.checkpoi
 ranks 2 run "$bed" "${long_bed[@]}" --set output.checkpoint_interval=1 -o "$work/bed_killed.h5" --resume \
   || fail "--resume after the killed rank exited with $?"
 agree "$work/bed_whole.h5" "$work/bed_killed.h5" 0 parameters/toml  # which names the checkpoint interval
+terminated 3 "$work/bed_termed.h5" run "$bed" "${long_bed[@]}"
+ranks 2 run "$bed" "${long_bed[@]}" -o "$work/bed_termed.h5" --resume || fail "--resume after SIGTERM to one rank exited with $?"
+agree "$work/bed_whole.h5" "$work/bed_termed.h5" 0
 
 # Refused, once.
 refused 'run.integrator = "position_verlet" (velocity_verlet is) is not offered' 2 run "$bed" "${shaken[@]}" \
