@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstring>
+#include <limits>
 
 namespace granflow {
 
@@ -145,6 +147,11 @@ std::vector<double> H5mdReader::doubles(const std::string& dataset_path, std::ui
 }
 
 DoubleArray H5mdReader::frame(const std::string& dataset_path, std::uint64_t index) const {
+  return frame(dataset_path, index, 0, std::numeric_limits<std::uint64_t>::max());
+}
+
+DoubleArray H5mdReader::frame(const std::string& dataset_path, std::uint64_t index, std::uint64_t first_row,
+                              std::uint64_t rows) const {
   H5Handle dataset(H5Dopen2(file_, dataset_path.c_str(), H5P_DEFAULT), H5Dclose, "open " + dataset_path);
   const auto shape = shape_of(dataset, dataset_path);
   if (shape.empty() || index >= shape.front())
@@ -152,14 +159,20 @@ DoubleArray H5mdReader::frame(const std::string& dataset_path, std::uint64_t ind
   std::vector<hsize_t> start(shape.size(), 0), count(shape.begin(), shape.end());
   start[0] = index;
   count[0] = 1;
+  if (shape.size() > 1) {
+    if (first_row > shape[1]) throw H5Error(fmt::format("{} has no row {}", dataset_path, first_row));
+    start[1] = first_row;
+    count[1] = std::min<std::uint64_t>(rows, shape[1] - first_row);
+  }
   H5Handle file_space(H5Dget_space(dataset), H5Sclose, "get space of " + dataset_path);
   h5_check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
            "select entry of " + dataset_path);
   H5Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), H5Sclose,
                         "create memory space");
   DoubleArray out;
-  out.shape.assign(shape.begin() + 1, shape.end());
+  out.shape.assign(count.begin() + 1, count.end());
   out.values.resize(element_count(out.shape));
+  if (out.values.empty()) return out;
   h5_check(H5Dread(dataset, H5T_NATIVE_DOUBLE, memory_space, file_space, H5P_DEFAULT, out.values.data()),
            "read entry of " + dataset_path);
   return out;

@@ -27,6 +27,9 @@ class H5mdReader {
   std::vector<std::int64_t> integers(const std::string& dataset_path) const;
   // Entry `index` along the first axis of a dataset (one frame of a series).
   DoubleArray frame(const std::string& dataset_path, std::uint64_t index) const;
+  // The same, only `rows` rows (along its second axis, the particles) from `first_row`.
+  DoubleArray frame(const std::string& dataset_path, std::uint64_t index, std::uint64_t first_row,
+                    std::uint64_t rows) const;
   std::string string_dataset(const std::string& dataset_path) const;
   std::vector<std::string> string_array(const std::string& dataset_path) const;
   std::string string_attribute(const std::string& object_path, const std::string& name) const;

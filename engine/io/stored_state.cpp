@@ -30,7 +30,10 @@ std::size_t frame_index(const std::string& path, std::int64_t frame, std::size_t
   return static_cast<std::size_t>(index);
 }
 
-StoredState read_h5md(const std::string& path, std::int64_t frame) {
+// A result file's frame `frame`; with `particles` false, all but the
+// positions and velocities (`has_velocity` says whether it has the latter).
+StoredState read_h5md(const std::string& path, std::int64_t frame, bool particles = true,
+                      std::size_t* index = nullptr, bool* has_velocity = nullptr) {
   try {
     const H5mdReader reader(path);
     const auto frames = ParticleFrames::read(reader, path);
@@ -41,11 +44,15 @@ StoredState read_h5md(const std::string& path, std::int64_t frame) {
     s.count = frames.count;
     s.edges = frames.edges(f);
     s.periodic = frames.periodic;
-    s.position = reader.frame(particles_group + "/position/value", f).values;
-    if (frames.has_velocity) s.velocity = reader.frame(particles_group + "/velocity/value", f).values;
+    if (particles) {
+      s.position = reader.frame(particles_group + "/position/value", f).values;
+      if (frames.has_velocity) s.velocity = reader.frame(particles_group + "/velocity/value", f).values;
+    }
     if (frames.radius) s.radius = *frames.radius;
     if (frames.mass) s.mass = *frames.mass;
     if (frames.species) s.species = *frames.species;
+    if (index) *index = f;
+    if (has_velocity) *has_velocity = frames.has_velocity;
     return s;
   } catch (const H5Error& error) {
     throw InputError(fmt::format("initial.from = '{}': cannot read it as a granflow result file: {}", path,
@@ -327,18 +334,51 @@ StoredState read_xyz(const std::string& path, std::int64_t frame) {
   return s;
 }
 
-}  // namespace
+enum class StoredFormat { gsd, h5md, xyz };
 
-StoredState read_stored_state(const std::string& path, std::int64_t frame) {
+StoredFormat format_of(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError(fmt::format("initial.from = '{}': the file does not exist", path));
   std::ifstream in(path, std::ios::binary);
   std::uint64_t magic = 0;
   in.read(reinterpret_cast<char*>(&magic), sizeof magic);
   in.close();
-  if (magic == gsd_magic) return read_gsd(path, frame);
+  if (magic == gsd_magic) return StoredFormat::gsd;
   h5_quiet();
-  if (H5Fis_hdf5(path.c_str()) > 0) return read_h5md(path, frame);
-  return read_xyz(path, frame);
+  return H5Fis_hdf5(path.c_str()) > 0 ? StoredFormat::h5md : StoredFormat::xyz;
+}
+
+}  // namespace
+
+StoredState read_stored_state(const std::string& path, std::int64_t frame) {
+  switch (format_of(path)) {
+    case StoredFormat::gsd: return read_gsd(path, frame);
+    case StoredFormat::h5md: return read_h5md(path, frame);
+    default: return read_xyz(path, frame);
+  }
+}
+
+StoredFrame::StoredFrame(const std::string& path, std::int64_t frame) : path_(path) {
+  in_file_ = format_of(path) == StoredFormat::h5md;
+  if (in_file_) {
+    state_ = read_h5md(path, frame, false, &frame_, &has_velocity_);
+  } else {
+    state_ = read_stored_state(path, frame);
+    has_velocity_ = !state_.velocity.empty();
+  }
+}
+
+std::vector<double> StoredFrame::rows(const char* column, const std::vector<double>& held, std::size_t first,
+                                      std::size_t count) const {
+  const std::size_t width = state_.dimension;
+  if (first + count > state_.count) throw std::logic_error("stored frame: rows beyond its particles");
+  if (!in_file_)
+    return std::vector<double>(held.begin() + static_cast<std::ptrdiff_t>(first * width),
+                               held.begin() + static_cast<std::ptrdiff_t>((first + count) * width));
+  try {
+    return H5mdReader(path_).frame(particles_group + "/" + column + "/value", frame_, first, count).values;
+  } catch (const H5Error& error) {
+    throw InputError(fmt::format("initial.from = '{}': cannot read its {}: {}", path_, column, error.what()));
+  }
 }
 
 }  // namespace granflow

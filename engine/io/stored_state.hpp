@@ -32,4 +32,33 @@ struct StoredState {
 // Throws InputError naming the file and what is wrong with it.
 StoredState read_stored_state(const std::string& path, std::int64_t frame);
 
+// The same frame for a reader that never holds all its particles (one
+// system over MPI ranks, each keeping its own): the layout, and the
+// positions and velocities by rows on demand. A granflow result file keeps
+// them in the file, read by hyperslab; GSD and extended XYZ files are read
+// whole once.
+class StoredFrame {
+ public:
+  StoredFrame(const std::string& path, std::int64_t frame);
+  // All of the state but a result file's positions and velocities.
+  const StoredState& layout() const { return state_; }
+  bool has_velocity() const { return has_velocity_; }
+  // Rows [first, first + count), `dimension` values each.
+  std::vector<double> positions(std::size_t first, std::size_t count) const {
+    return rows("position", state_.position, first, count);
+  }
+  std::vector<double> velocities(std::size_t first, std::size_t count) const {
+    return rows("velocity", state_.velocity, first, count);
+  }
+
+ private:
+  std::vector<double> rows(const char* column, const std::vector<double>& held, std::size_t first,
+                           std::size_t count) const;
+  std::string path_;
+  bool in_file_ = false;
+  std::size_t frame_ = 0;
+  bool has_velocity_ = false;
+  StoredState state_;
+};
+
 }  // namespace granflow

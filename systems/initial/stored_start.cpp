@@ -5,6 +5,8 @@
 
 #include <fmt/ranges.h>
 
+#include <stdexcept>
+
 #include "systems/initial/placement_grid.hpp"
 
 namespace granflow {
@@ -68,7 +70,8 @@ void adopt_stored_layout(Config& config, const StoredState& s) {
 
 void adopt_stored_state(Config& config) {
   if (!starts_from_stored_state(config)) return;
-  const StoredState s = stored_state_of(config);
+  // The layout alone: a result file's positions and velocities stay in it.
+  const StoredState s = StoredFrame(config.text("initial.from"), config.integer("initial.frame")).layout();
   adopt_stored_layout(config, s);
   for (const char* key : {"system.mass", "particle.mass"})
     if (config.schema().find(key)) config.set(key, uniform(s.mass, "masses", key, s));
@@ -82,18 +85,59 @@ void adopt_stored_state_as_one_run(Config& config) {
   adopt_stored_state(config);
 }
 
+namespace {
+
+template <int D>
+void check_stored_layout(const StoredState& s, bool has_velocity) {
+  if (s.dimension != static_cast<std::size_t>(D))
+    throw InputError(fmt::format("initial.from: {} is {}D; the run is {}D", s.source, s.dimension, D));
+  if (!has_velocity)
+    throw InputError(fmt::format("initial.from: {} has no velocities (H5MD velocity, GSD particles/velocity, "
+                                 "extended XYZ velo, vel or momenta with masses)",
+                                 s.source));
+}
+
+// Particle i's stored position and velocity (D values each), checked and
+// put into the box: wrapped along periodic axes, else kept `margin` inside
+// the walls.
+template <int D>
+void place_particle(const Box<D>& box, const StoredState& s, std::size_t i, const double* stored_x,
+                    const double* stored_v, double radius, const StoredStateLimits& limits, Vec<D>& x_out,
+                    Vec<D>& v_out) {
+  for (int a = 0; a < D; ++a) {
+    double x = stored_x[a];
+    const double v = stored_v[a];
+    if (!std::isfinite(x) || !std::isfinite(v))
+      throw InputError(fmt::format("initial.from: {}: particle {} has position or velocity {} along axis {}", s.source,
+                                   i, std::isfinite(x) ? v : x, a));
+    const double length = box.length[static_cast<std::size_t>(a)];
+    // Single-precision formats (GSD) store a position at the edge as the edge.
+    const double slack = 1e-6 * length;
+    if (box.periodic[static_cast<std::size_t>(a)]) {
+      x -= length * std::floor(x / length);
+      if (x >= length) x = 0.0;
+    } else {
+      const double margin = limits.radius_fits ? radius : 0.0;
+      if (x < margin - slack || x > length - margin + slack)
+        throw InputError(fmt::format("initial.from: {}: particle {} at {} along axis {} is outside the box [0, {}]{}",
+                                     s.source, i, x, a, length,
+                                     limits.radius_fits ? fmt::format(" (its radius {} must fit)", radius) : ""));
+      x = std::clamp(x, margin, length - margin);
+    }
+    x_out[a] = x;
+    v_out[a] = v;
+  }
+}
+
+}  // namespace
+
 template <int D>
 void place_stored_state(World& world, const std::array<double, D>& edges, const std::array<bool, D>& periodic,
                         const StoredState& s, const StoredStateLimits& limits) {
   Box<D> box;
   box.length = edges;
   box.periodic = periodic;
-  if (s.dimension != static_cast<std::size_t>(D))
-    throw InputError(fmt::format("initial.from: {} is {}D; the run is {}D", s.source, s.dimension, D));
-  if (s.velocity.empty())
-    throw InputError(fmt::format("initial.from: {} has no velocities (H5MD velocity, GSD particles/velocity, "
-                                 "extended XYZ velo, vel or momenta with masses)",
-                                 s.source));
+  check_stored_layout<D>(s, !s.velocity.empty());
   // Point particles (SRD) have neither radii nor masses of their own.
   const bool spheres = world.has_component<Radius>();
   if (spheres && (s.radius.empty() || s.mass.empty()))
@@ -114,29 +158,7 @@ void place_stored_state(World& world, const std::array<double, D>& edges, const 
         throw InputError(fmt::format("initial.from: {}: particle {} has radius {} and mass {}; both must be positive",
                                      s.source, i, radius[i], s.mass[i]));
     }
-    for (int a = 0; a < D; ++a) {
-      double x = s.position[i * D + static_cast<std::size_t>(a)];
-      const double v = s.velocity[i * D + static_cast<std::size_t>(a)];
-      if (!std::isfinite(x) || !std::isfinite(v))
-        throw InputError(fmt::format("initial.from: {}: particle {} has position or velocity {} along axis {}",
-                                     s.source, i, std::isfinite(x) ? v : x, a));
-      const double length = box.length[static_cast<std::size_t>(a)];
-      // Single-precision formats (GSD) store a position at the edge as the edge.
-      const double slack = 1e-6 * length;
-      if (box.periodic[static_cast<std::size_t>(a)]) {
-        x -= length * std::floor(x / length);
-        if (x >= length) x = 0.0;
-      } else {
-        const double margin = limits.radius_fits ? radius[i] : 0.0;
-        if (x < margin - slack || x > length - margin + slack)
-          throw InputError(fmt::format("initial.from: {}: particle {} at {} along axis {} is outside the box [0, {}]{}",
-                                       s.source, i, x, a, length,
-                                       limits.radius_fits ? fmt::format(" (its radius {} must fit)", radius[i]) : ""));
-        x = std::clamp(x, margin, length - margin);
-      }
-      position[i][a] = x;
-      velocity[i][a] = v;
-    }
+    place_particle<D>(box, s, i, &s.position[i * D], &s.velocity[i * D], radius[i], limits, position[i], velocity[i]);
   }
   // A run of several kinds of particle takes each particle's kind as stored.
   if (world.has_component<Species>()) {
@@ -178,5 +200,42 @@ template void place_stored_state<2>(World&, const std::array<double, 2>&, const 
                                     const StoredState&, const StoredStateLimits&);
 template void place_stored_state<3>(World&, const std::array<double, 3>&, const std::array<bool, 3>&,
                                     const StoredState&, const StoredStateLimits&);
+
+template <int D>
+void place_stored_part(World& world, const std::array<double, D>& edges, const std::array<bool, D>& periodic,
+                       const StoredFrame& frame, const std::function<bool(const double* position)>& owns) {
+  if (world.has_component<Radius>() || world.has_component<Species>())
+    throw std::logic_error("a stored state is placed by part for point particles of one kind only");
+  const StoredState& s = frame.layout();
+  check_stored_layout<D>(s, frame.has_velocity());
+  Box<D> box;
+  box.length = edges;
+  box.periodic = periodic;
+  // Every reader checks every particle, so that all refuse a bad one alike.
+  std::vector<Vec<D>> position, velocity;
+  std::vector<std::uint32_t> index;
+  constexpr std::size_t rows_per_read = std::size_t{1} << 18;
+  Vec<D> x, v;
+  for (std::size_t first = 0; first < s.count; first += rows_per_read) {
+    const std::size_t rows = std::min(rows_per_read, s.count - first);
+    const std::vector<double> xs = frame.positions(first, rows), vs = frame.velocities(first, rows);
+    for (std::size_t k = 0; k < rows; ++k) {
+      place_particle<D>(box, s, first + k, &xs[k * D], &vs[k * D], 0.0, {0.0, false}, x, v);
+      if (!owns(x.data())) continue;
+      position.push_back(x);
+      velocity.push_back(v);
+      index.push_back(static_cast<std::uint32_t>(first + k));
+    }
+  }
+  world.resize(position.size());
+  world.component<Position<D>>().values = std::move(position);
+  world.component<Velocity<D>>().values = std::move(velocity);
+  if (world.has_component<ParticleId>()) world.component<ParticleId>().values = std::move(index);
+}
+
+template void place_stored_part<2>(World&, const std::array<double, 2>&, const std::array<bool, 2>&,
+                                   const StoredFrame&, const std::function<bool(const double*)>&);
+template void place_stored_part<3>(World&, const std::array<double, 3>&, const std::array<bool, 3>&,
+                                   const StoredFrame&, const std::function<bool(const double*)>&);
 
 }  // namespace granflow

@@ -10,11 +10,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "components/box.hpp"
 #include "components/mass.hpp"
+#include "components/particle_id.hpp"
 #include "components/position.hpp"
 #include "components/radius.hpp"
 #include "components/species.hpp"
@@ -80,5 +82,19 @@ extern template void place_stored_state<2>(World&, const std::array<double, 2>&,
                                            const StoredState&, const StoredStateLimits&);
 extern template void place_stored_state<3>(World&, const std::array<double, 3>&, const std::array<bool, 3>&,
                                            const StoredState&, const StoredStateLimits&);
+
+// The same for point particles of one kind (SRD) over MPI ranks: only the
+// particles `owns` (this rank's domain, by position) go into the world, in
+// the stored order, each with its stored index as its ParticleId where the
+// world has one. The frame is read block by block and every particle is
+// checked, so that every rank refuses a bad state alike and none holds the
+// whole.
+template <int D>
+void place_stored_part(World& world, const std::array<double, D>& edges, const std::array<bool, D>& periodic,
+                       const StoredFrame& frame, const std::function<bool(const double* position)>& owns);
+extern template void place_stored_part<2>(World&, const std::array<double, 2>&, const std::array<bool, 2>&,
+                                          const StoredFrame&, const std::function<bool(const double*)>&);
+extern template void place_stored_part<3>(World&, const std::array<double, 3>&, const std::array<bool, 3>&,
+                                          const StoredFrame&, const std::function<bool(const double*)>&);
 
 }  // namespace granflow

@@ -258,8 +258,9 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = 
   // Particle frames follow ids given in the order of the initial state
   // (a stored one's order), before the binning sorts the particles.
   const bool frames = c.schema().find("output.positions") && c.text("output.positions") != "none";
-  // Over ranks a generated fluid is made by slab, and a resumed run's World
-  // is read by slab from its checkpoint; a stored one is read whole.
+  // Over ranks each rank holds only its slab's particles from the start: a
+  // generated fluid is made by slab, and a stored one or a resumed run's
+  // World is read by slab, block by block.
   const bool on_ranks = run.communicator() && run.communicator()->size() > 1;
   const int by_slab_axis = slab_axis_of<D>(cells, periodic, rate);
   bool by_slab = false;
@@ -277,7 +278,7 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = 
              [slab, by_slab_axis](const double* x) { return slab.owner(x[by_slab_axis]) == slab.rank; }};
   }
   run.initial_state([&](World& world) {
-    by_slab = on_ranks && by_slab_axis >= 0 && !starts_from_stored_state(c);
+    by_slab = on_ranks && by_slab_axis >= 0;
     world.resize(by_slab ? 0 : n);
     auto& x = world.add_component<Position<D>>();
     auto& v = world.add_component<Velocity<D>>();
@@ -288,8 +289,12 @@ void add_srd_fluid(Run& run, std::vector<Wall> walls = {}, BodyForce<D> force = 
     if (starts_from_stored_state(c)) {
       std::array<double, D> edges{};
       for (int a = 0; a < D; ++a) edges[a] = cells[a];
-      place_stored_state<D>(world, edges, periodic, stored_state_of(c), {0.0, false});
-      SrdCells<D> unshifted(cells, n);
+      if (by_slab)
+        place_stored_part<D>(world, edges, periodic, StoredFrame(c.text("initial.from"), c.integer("initial.frame")),
+                             owned.owns);
+      else
+        place_stored_state<D>(world, edges, periodic, stored_state_of(c), {0.0, false});
+      SrdCells<D> unshifted(cells, world.size());
       SrdCellBinning<D>::sort(world, unshifted);
       return;
     }
