@@ -75,7 +75,7 @@ struct SlabDomain {
   }
   // Each rank's load under `bounds`, from the layers'.
   static std::vector<double> loads(const std::vector<double>& per_layer, const std::vector<std::int64_t>& bounds) {
-    std::vector<double> out(bounds.size() - 1, 0.0);
+    std::vector<double> out(bounds.empty() ? 0 : bounds.size() - 1, 0.0);
     for (std::size_t r = 0; r + 1 < bounds.size(); ++r)
       for (auto k = bounds[r]; k < bounds[r + 1]; ++k) out[r] += per_layer[static_cast<std::size_t>(k)];
     return out;

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <vector>
 
@@ -39,6 +40,15 @@ struct RotationParameters {
   // Sum each cell's collisional momentum transfer (for the shear stress).
   bool record_transfer = false;
 };
+
+// Said once per run, at the first step with cells whose effective
+// restitution fell below zero (over MPI ranks, all ranks' cells of that
+// step: SrdDomainStep::report_clamping).
+inline void warn_clamped_cells(std::int64_t step, std::uint64_t cells) {
+  spdlog::warn("step {}: eps_eff <= 0 in {} cells (clamped to 0: those cells lose all their thermal energy); lower "
+               "srd.diameter, srd.time_step or the temperature to stay in the model's range",
+               step, cells);
+}
 
 inline GranularParameters granular_parameters(const RotationParameters& p) {
   return {p.restitution < 1.0 && p.diameter > 0.0, p.restitution, p.diameter, p.dt};
@@ -82,7 +92,8 @@ class SrdRotation : public SystemOf<Reads<Clock>, Writes<Velocity<D>, SrdCells<D
         const double members = cells.count[c] + (cells.ghosts.empty() ? 0.0 : cells.ghosts[c]);
         bool below_zero = false;
         cell_collision_matrix<D>(base_, granular, seed_, step, cells.cell_key(c), members, cells.theta[c], collision.matrix, below_zero);
-        clamped_here += below_zero;
+        // Counted where it is owned: over ranks a straddling cell is rotated on both sides.
+        if (below_zero && cells.owns(c)) ++clamped_here;
         cells.transfer[c] = transfer && members >= 2 ? collisional_transfer<D>(collision.matrix, cells.moment[c].data()) : 0.0;
       }
       clamped += clamped_here;
@@ -106,16 +117,20 @@ class SrdRotation : public SystemOf<Reads<Clock>, Writes<Velocity<D>, SrdCells<D
     }
     cells.clamped_cells = clamped.load();
     total_clamped_ += cells.clamped_cells;
-    if (cells.clamped_cells > 0 && !warned_) {
-      warned_ = true;
-      spdlog::warn("step {}: eps_eff <= 0 in {} cells (clamped to 0: those cells lose all their thermal energy); "
-                   "lower srd.diameter, srd.time_step or the temperature to stay in the model's range",
-                   step, cells.clamped_cells);
+    if (cells.clamped_cells > 0 && first_clamped_step_ < 0) {
+      first_clamped_step_ = static_cast<std::int64_t>(step);
+      first_clamped_cells_ = cells.clamped_cells;
+      if (!quiet_) warn_clamped_cells(first_clamped_step_, first_clamped_cells_);
     }
   }
 
   // Cells clamped at eps_eff = 0 so far, summed over steps.
   std::uint64_t total_clamped() const { return total_clamped_; }
+  // The first step that clamped cells (-1: none yet) and how many it did.
+  std::int64_t first_clamped_step() const { return first_clamped_step_; }
+  std::uint64_t first_clamped_cells() const { return first_clamped_cells_; }
+  // Leaves the warning to the caller (a step over ranks says it for all).
+  void quiet() { quiet_ = true; }
 
   const RotationParameters& parameters() const { return p_; }
 
@@ -167,7 +182,9 @@ class SrdRotation : public SystemOf<Reads<Clock>, Writes<Velocity<D>, SrdCells<D
   std::vector<CellCollision> collisions_;  // per cell, this step's
   std::vector<double> chunk_energy_;
   std::uint64_t total_clamped_ = 0;
-  bool warned_ = false;
+  std::int64_t first_clamped_step_ = -1;
+  std::uint64_t first_clamped_cells_ = 0;
+  bool quiet_ = false;
 };
 
 }  // namespace granflow::srd

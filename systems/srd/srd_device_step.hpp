@@ -133,9 +133,7 @@ class SrdDeviceStep : public SrdDeviceStepBase<D> {
     cells.step_ghost_cell_energy = report.ghost_cell_energy;
     if (report.clamped_cells > 0 && !warned_) {
       warned_ = true;
-      spdlog::warn("step {}: eps_eff <= 0 in {} cells (clamped to 0: those cells lose all their thermal energy); "
-                   "lower srd.diameter, srd.time_step or the temperature to stay in the model's range",
-                   in.step, report.clamped_cells);
+      warn_clamped_cells(static_cast<std::int64_t>(in.step), report.clamped_cells);
     }
     host_current_ = false;
   }

@@ -154,6 +154,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
         reorder_interval_(reorder_interval),
         balance_(std::move(balance)) {
     local_.emplace_resource<Clock>();
+    rotation_.quiet();  // report_clamping warns for all ranks
     host_current_ = !physics.started_by_slab;
     place_grid(whole);
     periodic_ = ~whole.bounded;
@@ -279,6 +280,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     if (images_)
       gather_integers(values_of<ImageCount<D>>(local_), D, first ? values_of<ImageCount<D>>(whole) : nullptr);
     const auto clamped = ranks_.sum(static_cast<std::int64_t>(local_.resource<SrdCells<D>>().clamped_cells));
+    report_clamping();
     if (!first) {
       if (stepped_) gather_cells(nullptr);
       host_current_ = true;
@@ -312,6 +314,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
     if (!stepped_) SrdCellReduction<D>::reduce(local_, cells);
     const std::size_t own = local_.size();
     const auto clamped = ranks_.sum(static_cast<std::int64_t>(cells.clamped_cells));
+    report_clamping();
     world_size_ = world.size();
     trade_part(world);
     world.resize(own);
@@ -354,7 +357,10 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   // (rank 0's reach the profile), and every rank's as rows
   // `srd_domain_step.rank<r>.<part>`, so that a slow rank and the others'
   // wait for it show. Collective: every rank writes its results.
-  std::vector<ProfileEntry> device_profile() const override { return times_.entries("srd_domain_step", ranks_); }
+  std::vector<ProfileEntry> device_profile() const override {
+    report_clamping();
+    return times_.entries("srd_domain_step", ranks_);
+  }
 
  private:
   // Time in MPI calls, waiting for the other ranks included: the exchanges
@@ -375,6 +381,24 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   }
 
   std::size_t width() const { return 2 * D + (ids_ ? 1 : 0) + (images_ ? D : 0); }
+
+  // The rotation's warning of cells clamped at eps_eff = 0, as one rank
+  // gives it: the first step any rank clamped cells and all ranks' cells of
+  // that step, said by rank 0 once, at the first collective round after it
+  // (an output, a checkpoint or the end). Collective.
+  void report_clamping() const {
+    if (clamping_reported_) return;
+    const std::vector<double> all = ranks_.gather_all(
+        {static_cast<double>(rotation_.first_clamped_step()), static_cast<double>(rotation_.first_clamped_cells())});
+    double first = -1.0, cells = 0.0;
+    for (std::size_t r = 0; r + 1 < all.size(); r += 2)
+      if (all[r] >= 0.0 && (first < 0.0 || all[r] < first)) first = all[r];
+    if (first < 0.0) return;
+    for (std::size_t r = 0; r + 1 < all.size(); r += 2)
+      if (all[r] == first) cells += all[r + 1];
+    clamping_reported_ = true;
+    if (ranks_.rank() == 0) warn_clamped_cells(static_cast<std::int64_t>(first), static_cast<std::uint64_t>(cells));
+  }
 
   // What the cells count over the run and the step, besides their arrays.
   struct Totals {
@@ -1029,6 +1053,7 @@ class SrdDomainStep : public SrdDomainStepBase<D> {
   bool stepped_ = false;  // the slabs' cells have been reduced (else the initial state's are the World's)
   unsigned periodic_ = 0;  // bit a: axis a of the whole box wraps
   bool accounts_ = false;  // walls or the energy ledger: per-step sums over the ranks
+  mutable bool clamping_reported_ = false;
   DomainBalance balance_;
   Shear shear_;  // this step's, for packing: read per particle, not looked up in local_ each time
   bool host_current_ = true;

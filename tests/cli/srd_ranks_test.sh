@@ -31,7 +31,8 @@
 #    fluid denser at one end, with the one-rank result to round-off and a
 #    resume bit for bit across a rebalance;
 #  - failed physics (a particle stranded on a wall; a velocity that blows
-#    the temperature up) ends every rank with exit 3 and one diagnosis;
+#    the temperature up) ends every rank with exit 3 and one diagnosis; the
+#    warning of cells clamped at eps_eff = 0 is one rank's, said once;
 #  - a damaged checkpoint is refused once, before any rank reads its slab;
 #  - what is not distributed is refused once, on rank 0, with exit status 2.
 set -u
@@ -269,15 +270,18 @@ fi
 # A velocity that blows up (one particle of a stored start at 1e200): the
 # watchdog sees the temperature's totals over the ranks turn infinite, and
 # every rank stops at once with exit 3, the diagnosis said once.
-/usr/bin/python3 - "$work/even.h5" "$work/blown.h5" <<'PY' || fail "could not write the blown-up state"
+with_fast_particle() {  # IN OUT SPEED: IN with particle 7 moving at SPEED along x
+  /usr/bin/python3 - "$@" <<'PY' || fail "could not write a state with a fast particle"
 import shutil, sys, h5py
 shutil.copy(sys.argv[1], sys.argv[2])
 with h5py.File(sys.argv[2], "r+") as f:
     v = f["particles/all/velocity/value"]
     values = v[()]
-    values[-1, 7] = [1e200, 0.0, 0.0]
+    values[-1, 7] = [float(sys.argv[3]), 0.0, 0.0]
     v[...] = values
 PY
+}
+with_fast_particle "$work/even.h5" "$work/blown.h5" 1e200
 output=$(ranks 2 run "$cooling" -q --set 'system.cells=[8,8,24]' --set run.steps=20 --set initial.from="$work/blown.h5" \
   -o "$work/blown_run.h5" 2>&1); status=$?
 said=$(grep -c "error: the SRD run failed at t = 0 (step 0): the fluid's temperature is not finite" <<< "$output")
@@ -286,6 +290,18 @@ if [[ $status -eq 3 && $said -eq 1 ]] && "$granflow" info "$work/blown_run.h5" 2
 else
   fail "a non-finite temperature on 2 ranks: exit $status, said $said times: $output"
 fi
+
+# The warning of cells clamped at eps_eff = 0 (one fast particle heats its
+# cells past the model's range) names the step and the cells of all ranks,
+# as on one rank, once.
+with_fast_particle "$work/even.h5" "$work/fast.h5" 1e6
+hot=(run "$cooling" -q --set 'system.cells=[8,8,24]' --set run.steps=20 --set initial.from="$work/fast.h5")
+one=$("$granflow" "${hot[@]}" -o "$work/fast_1.h5" 2>&1 | grep -o "warning: step .* cells (clamped")
+for k in 2 3; do
+  said=$(ranks "$k" "${hot[@]}" -o "$work/fast_$k.h5" 2>&1 | grep -o "warning: step .* cells (clamped")
+  [[ -n "$one" && "$said" == "$one" ]] && echo "ok: on $k ranks the clamped cells are warned of as on one: $said" \
+    || fail "clamped cells on $k ranks: '$said', on one rank: '$one'"
+done
 
 # Refused, once, with the reason.
 refused 'srd.device = "thrust_host"' 2 run "$cooling" --set srd.device=thrust_host
