@@ -56,16 +56,23 @@ void Run::initial_state(const std::function<void(World&)>& create, const OwnedOn
     };
     const std::string position = "world/" + owned.position;
     if (owned.owns && sizes.count(position)) {
-      // This rank's rows, found by their positions, block by block.
+      // This rank's rows, found by their positions, block by block; then
+      // the same rows of the other columns.
       const std::size_t width = width_of(position);
       std::vector<std::size_t> mine;
+      std::vector<double>& own_positions = columns[owned.position];
       for (std::size_t first = 0; first < n; first += rows_per_read) {
         const std::size_t rows = std::min(rows_per_read, n - first);
         const std::vector<double> x = resume_rows_->read(position, first * width, rows * width);
         for (std::size_t i = 0; i < rows; ++i)
-          if (owned.owns(&x[i * width])) mine.push_back(first + i);
+          if (owned.owns(&x[i * width])) {
+            mine.push_back(first + i);
+            own_positions.insert(own_positions.end(), x.begin() + static_cast<std::ptrdiff_t>(i * width),
+                                 x.begin() + static_cast<std::ptrdiff_t>((i + 1) * width));
+          }
       }
       for (const auto& [name, values] : sizes) {
+        if (name == position) continue;
         const std::size_t w = width_of(name);
         std::vector<double>& out = columns[name.substr(6)];
         out.reserve(mine.size() * w);
