@@ -30,7 +30,11 @@ class Trigger {
   virtual void pass(double time, std::int64_t step) = 0;
   // Fires once more when the run ends.
   virtual bool at_end() const { return false; }
-
+  // Whether its firing due at (time, step) is one of its own, which a
+  // longer run has as well, rather than one set by where the run stops:
+  // the last time of an output list (lists are built to end at the stop)
+  // or an end cap.
+  virtual bool own_firing(double, std::int64_t) const { return false; }
 };
 
 using TriggerPtr = std::shared_ptr<Trigger>;
@@ -64,6 +68,9 @@ class EveryTime : public Trigger {
   double next_time() const override {
     if (done_) return never;
     return std::min(end_, static_cast<double>(k_) * interval_);
+  }
+  bool own_firing(double time, std::int64_t) const override {
+    return !done_ && time_reached(static_cast<double>(k_) * interval_, time);
   }
   void pass(double time, std::int64_t) override {
     // Far behind (a resumed run, an interval far below the step): jump to
@@ -112,6 +119,7 @@ class EverySteps : public Trigger {
   void pass(double, std::int64_t step) override {
     while (next_ <= step) next_ += n_;
   }
+  bool own_firing(double, std::int64_t) const override { return true; }
 
  private:
   std::int64_t n_;
@@ -145,6 +153,11 @@ class AnyOf : public Trigger {
   }
   bool at_end() const override {
     return std::any_of(parts_.begin(), parts_.end(), [](const auto& p) { return p->at_end(); });
+  }
+  bool own_firing(double time, std::int64_t step) const override {
+    return std::any_of(parts_.begin(), parts_.end(), [&](const auto& p) {
+      return (time_reached(p->next_time(), time) || p->next_step() <= step) && p->own_firing(time, step);
+    });
   }
   const std::vector<TriggerPtr>& parts() const { return parts_; }
 

@@ -363,12 +363,16 @@ std::string numbers_as_text(const std::vector<double>& numbers) {
 
 }  // namespace
 
-StateMap H5mdFile::frames_state(const std::map<std::string, std::size_t>& limit) const {
+StateMap H5mdFile::frames_state(const std::map<std::string, std::size_t>* limit) const {
   StateMap state;
   for (const auto& [path, s] : series_) {
     if (path.rfind("/observables/", 0) == 0) continue;  // the recorder keeps those
     std::size_t frames = s->frames;
-    if (const auto cap = limit.find(path); cap != limit.end()) frames = std::min(frames, cap->second);
+    if (limit) {
+      const auto cap = limit->find(path);
+      if (cap == limit->end()) continue;  // a series begun since
+      frames = std::min(frames, cap->second);
+    }
     std::size_t inner = 1;
     for (hsize_t e : s->shape) inner *= e;
     auto step = read_all(s->step, path + "/step"), time = read_all(s->time, path + "/time");

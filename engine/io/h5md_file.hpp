@@ -76,10 +76,11 @@ class H5mdFile {
   void write_attribute(const std::string& group, const std::string& name, const std::string& value);
   void write_attribute(const std::string& group, const std::string& name, double value);
   // The frames written straight to the file (particle frames, fields; not
-  // the observables, which the recorder keeps), for a checkpoint: each
-  // series at most `limit` frames where it names it. restore_frames writes
-  // them into a resumed run's new file before it writes more.
-  StateMap frames_state(const std::map<std::string, std::size_t>& limit = {}) const;
+  // the observables, which the recorder keeps), for a checkpoint; with a
+  // `limit` (frame_counts() taken earlier), each series as it was then and
+  // none begun since. restore_frames writes them into a resumed run's new
+  // file before it writes more.
+  StateMap frames_state(const std::map<std::string, std::size_t>* limit = nullptr) const;
   std::map<std::string, std::size_t> frame_counts() const;
   // The particles in the frames of /particles/all/NAME (0 where none was written).
   std::size_t particles_in_frames(const std::string& name) const;

@@ -4,6 +4,7 @@
 // run writes them again into its new result file. The Runner adds it after
 // every observer, reading every observable they declare.
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <stdexcept>
@@ -75,11 +76,33 @@ class ObservableRecorder : public SystemOf<Reads<Clock>, Writes<OutputFile>> {
     return it != history_.end() && !it->second.empty() && it->second.back().value.size() > 1;
   }
 
+  using SeriesLengths = std::map<std::string, std::size_t>;
+  SeriesLengths lengths() const {
+    SeriesLengths out;
+    for (const auto& [name, samples] : history_) out[name] = samples.size();
+    return out;
+  }
   StateMap save_history() const { return granflow::save_history(history_); }
+  // The samples each series held at `lengths` (a series absent there had none).
+  StateMap save_history(const SeriesLengths& lengths) const {
+    ObservableHistory kept;
+    for (const auto& [name, length] : lengths) {
+      const auto& samples = history_.at(name);
+      kept[name].assign(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(length));
+    }
+    return granflow::save_history(kept);
+  }
   // Writes a saved history again (into `file`, when there is one).
-  void replay(H5mdFile* file, const StateMap& saved) {
-    for (const auto& [name, samples] : load_history(saved))
-      for (const auto& sample : samples) append(file, name, sample);
+  // With `up_to`, each series' first samples alone (none of a series it lacks).
+  void replay(H5mdFile* file, const StateMap& saved, const SeriesLengths* up_to = nullptr) {
+    for (const auto& [name, samples] : load_history(saved)) {
+      std::size_t count = samples.size();
+      if (up_to) {
+        const auto length = up_to->find(name);
+        count = length == up_to->end() ? 0 : std::min(count, length->second);
+      }
+      for (std::size_t k = 0; k < count; ++k) append(file, name, samples[k]);
+    }
   }
 
  private:

@@ -32,6 +32,29 @@ void Run::initial_state(const std::function<void(World&)>& create) { initial_sta
 namespace {
 // Rows of the particle arrays read at once when a rank picks its own.
 constexpr std::size_t rows_per_read = std::size_t{1} << 18;
+
+// A checkpoint's frames cut to `counts` (series path -> {frames}); a series
+// that `counts` lacks is left out.
+StateMap frames_up_to(const StateMap& frames, const StateMap& counts) {
+  StateMap out;
+  const std::string suffix = "/shape";
+  for (const auto& [key, shape] : frames) {
+    if (key.size() <= suffix.size() || key.compare(key.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
+    const std::string path = key.substr(0, key.size() - suffix.size());
+    const auto count = counts.find(path);
+    if (count == counts.end() || count->second.empty()) continue;
+    for (const char* part : {"/step", "/time", "/value", "/shape", "/integer", "/unit", "/time_unit"})
+      if (const auto entry = frames.find(path + part); entry != frames.end()) out[path + part] = entry->second;
+    std::size_t inner = 1;
+    for (const double extent : shape) inner *= static_cast<std::size_t>(extent);
+    const auto kept = std::min(static_cast<std::size_t>(count->second.front()), out[path + "/step"].size());
+    out[path + "/step"].resize(kept);
+    out[path + "/time"].resize(kept);
+    out[path + "/value"].resize(kept * inner);
+  }
+  return out;
+}
+
 }  // namespace
 
 void Run::initial_state(const std::function<void(World&)>& create, const OwnedOnResume& owned) {
@@ -142,10 +165,53 @@ void Run::prepare() {
   world_.resource<Clock>().step = static_cast<std::int64_t>(clock->second[1]);
   round_time_ = round->second[0];
   round_step_ = static_cast<std::int64_t>(round->second[1]);
+  const bool leave_out_stop_round = stop_round_left_out();
   for (auto& trigger : triggers_) trigger->pass(round_time_, round_step_);
-  recorder_->replay(file_, state_under(*resume_, "history"));
-  if (file_) file_->restore_frames(state_under(*resume_, "frames"));
+  if (!leave_out_stop_round) {
+    recorder_->replay(file_, state_under(*resume_, "history"));
+    if (file_) file_->restore_frames(state_under(*resume_, "frames"));
+  } else {
+    ObservableRecorder::SeriesLengths series;
+    for (const auto& [name, length] : state_under(*resume_, "stop_round/series"))
+      series[name] = static_cast<std::size_t>(length.at(0));
+    recorder_->replay(file_, state_under(*resume_, "history"), &series);
+    if (file_) file_->restore_frames(frames_up_to(state_under(*resume_, "frames"),
+                                                  state_under(*resume_, "stop_round/frames")));
+    for (const auto& [name, object] : kept_)
+      if (const StateMap before = state_under(*resume_, "stop_round/kept/" + name); !before.empty())
+        object->restore_state(before);
+  }
   if (file_) file_->restore_provenance(state_under(*resume_, "provenance"));
+}
+
+// The extension's triggers, positioned after the round before the earlier
+// stop, are asked whether any fires at the stop other than of its own (an
+// output list with that time). What the stop set wrote is kept whole if so:
+// observers cannot be told apart in it (where several lists end at the
+// stop and one of the longer run's has that time, the others' samples there
+// stay).
+bool Run::stop_round_left_out() {
+  const auto before = resume_->find("stop_round/round");
+  if (before == resume_->end()) return false;
+  if (before->second.size() != 2) throw std::invalid_argument("checkpoint has a damaged stop round");
+  const auto& clock = world_.resource<Clock>();
+  for (auto& trigger : triggers_) {
+    trigger->pass(before->second[0], static_cast<std::int64_t>(before->second[1]));
+    const bool due = time_reached(trigger->next_time(), clock.time) || trigger->next_step() <= clock.step;
+    if (due && !trigger->own_firing(clock.time, clock.step)) return false;
+  }
+  return true;
+}
+
+void Run::save_stop_round(StateMap& out) const {
+  const StopRound& stop = *stop_round_;
+  out["stop_round/round"] = {stop.round_time, static_cast<double>(stop.round_step)};
+  for (const auto& [name, length] : stop.before.series) out["stop_round/series/" + name] = {static_cast<double>(length)};
+  for (const auto& [path, count] : stop.before.frames) out["stop_round/frames/" + path] = {static_cast<double>(count)};
+  for (std::size_t k = 0; k < kept_.size(); ++k) {
+    const StateMap& before = stop.kept_before[k].second;
+    if (before != kept_[k].second->save_state()) put_state_under(out, "stop_round/kept/" + kept_[k].first, before);
+  }
 }
 
 void Run::synchronise_host() {
@@ -181,10 +247,10 @@ StateMap Run::save(RankRows* rows) {
   out["round"] = {round_time_, static_cast<double>(round_step_)};
   for (const auto& [name, value] : derived_) out["derived/" + name] = {value};
   for (const auto& [name, object] : kept_) put_state_under(out, "kept/" + name, object->save_state());
-  put_state_under(out, "history", recorder_->save_history());
-  // A finished run's checkpoint leaves out what its final round wrote: an
-  // extension writes its own at its new end.
-  if (file_) put_state_under(out, "frames", file_->frames_state(at_end_fired_ ? frames_before_end_ : FrameCounts{}));
+  const Written* end = at_end_fired_ && before_end_ ? &*before_end_ : nullptr;
+  put_state_under(out, "history", end ? recorder_->save_history(end->series) : recorder_->save_history());
+  if (file_) put_state_under(out, "frames", file_->frames_state(end ? &end->frames : nullptr));
+  if (at_end_fired_ && stop_round_) save_stop_round(out);
   if (file_) put_state_under(out, "provenance", file_->provenance_state());
   return out;
 }
@@ -302,9 +368,10 @@ std::optional<std::string> Run::stop_criterion_met() {
 
 // Observers whose trigger is due at the clock run; at a stop, so do those
 // that were due at the target the run was heading for.
-void Run::fire(bool stopping, double target_time, std::int64_t target_step) {
+void Run::fire(bool stopping, double target_time, std::int64_t target_step, Firing which) {
   const auto& clock = world_.resource<Clock>();
   run_observers([&](const Trigger& t) {
+    if (which != Firing::all && t.own_firing(clock.time, clock.step) != (which == Firing::own)) return false;
     bool due = time_reached(t.next_time(), clock.time) || t.next_step() <= clock.step;
     if (stopping)
       due = due || (t.next_time() != Trigger::never && time_reached(t.next_time(), target_time)) ||
@@ -313,10 +380,17 @@ void Run::fire(bool stopping, double target_time, std::int64_t target_step) {
   });
 }
 
+Run::Written Run::written() const {
+  Written out;
+  out.series = recorder_->lengths();
+  if (file_) out.frames = file_->frame_counts();
+  return out;
+}
+
 void Run::fire_at_end() {
   if (at_end_fired_) return;
   at_end_fired_ = true;
-  if (file_) frames_before_end_ = file_->frame_counts();
+  before_end_ = written();
   auto& control = world_.resource<RunControl>();
   control.ending = true;
   run_observers([](const Trigger& t) { return t.at_end(); });
@@ -357,7 +431,17 @@ RunOutcome Run::execute(const std::atomic<bool>* interrupt, const std::function<
       if (clock.time == time_before && clock.step == step_before && !control.stop)
         throw std::logic_error("the per-step systems did not advance the clock");
     }
-    fire(control.stop, target_time, target_step);
+    if (split_stop_round_ && !stop_round_ && !control.stop && (clock.time >= stop_time_ || clock.step >= stop_step_)) {
+      fire(false, target_time, target_step, Firing::own);
+      StopRound& stop = stop_round_.emplace();
+      stop.round_time = round_time_;
+      stop.round_step = round_step_;
+      stop.before = written();
+      for (const auto& [name, object] : kept_) stop.kept_before.emplace_back(name, object->save_state());
+      fire(control.stop, target_time, target_step, Firing::set_by_stop);
+    } else {
+      fire(control.stop, target_time, target_step);
+    }
     round_time_ = clock.time;
     round_step_ = clock.step;
     for (auto& t : triggers_) t->pass(clock.time, clock.step);

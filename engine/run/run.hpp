@@ -155,6 +155,9 @@ class Run {
   // Advances to the end, an error or an interruption. `after_round` runs
   // after every round of observers (checkpoints, progress).
   RunOutcome execute(const std::atomic<bool>* interrupt, const std::function<void()>& after_round = {});
+  // The run's final state will be saved to be extended (output.final_checkpoint):
+  // its round at the stop is split as StopRound says.
+  void split_stop_round() { split_stop_round_ = true; }
   // Brings device-resident state to the host first. Over ranks, where
   // `rows` is given and the step can lend this rank's particles, they are
   // not gathered onto rank 0: `rows` gets this rank's rows of the World's
@@ -178,7 +181,10 @@ class Run {
 
  private:
   void add_trigger(const TriggerPtr& trigger);
-  void fire(bool stopping, double target_time, std::int64_t target_step);
+  // Which observers a round fires: all, or those whose firing is their
+  // trigger's own (Trigger::own_firing), or those whose firing the stop set.
+  enum class Firing { all, own, set_by_stop };
+  void fire(bool stopping, double target_time, std::int64_t target_step, Firing which = Firing::all);
   void fire_at_end();
   void synchronise_host();
   template <class Due>
@@ -229,8 +235,34 @@ class Run {
   double round_time_ = -std::numeric_limits<double>::infinity();
   std::int64_t round_step_ = -1;
   bool at_end_fired_ = false;
-  using FrameCounts = std::map<std::string, std::size_t>;
-  FrameCounts frames_before_end_;  // of the file's series, when the final round began
+  // How far the observables' series and the file's series (frames) went.
+  struct Written {
+    ObservableRecorder::SeriesLengths series;
+    std::map<std::string, std::size_t> frames;
+  };
+  Written written() const;
+  // A finished run's checkpoint leaves out its final round (at_end): an
+  // extension writes its own at its new end.
+  std::optional<Written> before_end_;
+  // Where the run may be extended, its round at the stop is split: first
+  // the observers whose trigger fires there of its own (every step, a
+  // period's time), then those whose firing the stop set (the last time of
+  // an output list, an end cap). What the latter wrote and changed is told
+  // apart in the checkpoint: an extension none of whose own lists has that
+  // time leaves it out; one whose lists have it keeps it (observers may
+  // read what only the step just taken left, so they cannot fire again).
+  struct StopRound {
+    double round_time = 0;  // of the round before
+    std::int64_t round_step = 0;
+    Written before;
+    std::vector<std::pair<std::string, StateMap>> kept_before;
+  };
+  bool split_stop_round_ = false;
+  std::optional<StopRound> stop_round_;
+  void save_stop_round(StateMap& out) const;
+  // On resume: whether the extension's lists leave out the earlier stop
+  // (then what the stop set wrote is not replayed and what it kept is undone).
+  bool stop_round_left_out();
 };
 
 // A scenario's build for 2D and 3D runs, picked by system.dimension:

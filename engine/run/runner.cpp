@@ -246,6 +246,7 @@ int single_run(const Scenario& scenario, const Config& config, const RunOptions&
       last_checkpoint = std::chrono::steady_clock::now();
     }
   };
+  if (config.boolean("output.final_checkpoint")) run.split_stop_round();
   const RunOutcome outcome = run.execute(interrupt, after_round);
   progress.finish();
   if (outcome.kind == RunOutcome::Kind::interrupted) {

@@ -53,14 +53,15 @@ if d["ranks"] != 3 or d["slab_layers"] < 3:
 print(f"ok: {d['ranks']:.0f} ranks over {d['slab_layers']:.0f} layers recorded")
 PY
 
-# Stopped and extended on another number of ranks (the first part ends on
-# an output: a finished run's last output stays in the file it extends).
+# Stopped and extended on another number of ranks. The first part stops
+# between two output times: what it wrote at its stop is not in the
+# extension, which is the one run to the later stop.
 whole=("${deep_args[@]}" --set output.final_checkpoint=true)
 "$granflow" run "$deep" "${whole[@]}" -q -o "$work/deep_whole.h5" || fail "one-rank reference exited with $?"
-ranks 2 run "$deep" "${whole[@]}" --set run.t_stop=0.4 -q -o "$work/deep_2to3.h5" || fail "2-rank first part exited with $?"
+ranks 2 run "$deep" "${whole[@]}" --set run.t_stop=0.5 -q -o "$work/deep_2to3.h5" || fail "2-rank first part exited with $?"
 ranks 3 run "$deep" "${whole[@]}" -q -o "$work/deep_2to3.h5" --resume || fail "3-rank extension exited with $?"
 agree "$work/deep_whole.h5" "$work/deep_2to3.h5" 0
-"$granflow" run "$deep" "${whole[@]}" --set run.t_stop=0.4 -q -o "$work/deep_1to2.h5" || fail "one-rank first part exited with $?"
+"$granflow" run "$deep" "${whole[@]}" --set run.t_stop=0.5 -q -o "$work/deep_1to2.h5" || fail "one-rank first part exited with $?"
 ranks 2 run "$deep" "${whole[@]}" -q -o "$work/deep_1to2.h5" --resume || fail "2-rank extension exited with $?"
 agree "$work/deep_whole.h5" "$work/deep_1to2.h5" 0
 
@@ -72,8 +73,8 @@ long_bed=(--set run.t_stop=12 --set output.average_after=6 -q)
 interrupted 2 "$work/bed_cut.h5" run "$bed" "${long_bed[@]}"
 ranks 3 run "$bed" "${long_bed[@]}" -o "$work/bed_cut.h5" --resume || fail "3-rank resume of the interrupted run exited with $?"
 agree "$work/bed_whole.h5" "$work/bed_cut.h5" 0
-killed 2 "$work/bed_killed.h5" run "$bed" "${long_bed[@]}" --set output.checkpoint_interval=1
-ranks 2 run "$bed" "${long_bed[@]}" --set output.checkpoint_interval=1 -o "$work/bed_killed.h5" --resume \
+killed 2 "$work/bed_killed.h5" run "$bed" "${long_bed[@]}" --set output.checkpoint_interval=0.3
+ranks 2 run "$bed" "${long_bed[@]}" --set output.checkpoint_interval=0.3 -o "$work/bed_killed.h5" --resume \
   || fail "--resume after the killed rank exited with $?"
 agree "$work/bed_whole.h5" "$work/bed_killed.h5" 0 parameters/toml  # which names the checkpoint interval
 terminated 3 "$work/bed_termed.h5" run "$bed" "${long_bed[@]}"

@@ -1,10 +1,13 @@
 // EveryTime fires at the same times however far behind it is passed: a
 // trigger passed once to a late time continues exactly as one passed at
 // every step on the way (the slow reference), and an interval far below the
-// time returns at once instead of counting to it.
+// time returns at once instead of counting to it. Which firings at a stop
+// are a trigger's own.
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "engine/core/trigger.hpp"
@@ -39,6 +42,33 @@ TEST(EveryTime, AnIntervalFarBelowTheTimeDoesNotCountToIt) {
   fine.pass(1.0, 0);
   EXPECT_GT(fine.next_time(), 1.0);
   EXPECT_LT(fine.next_time(), 1.0 + 3e-9);
+}
+
+// At a run's stop, a firing is the trigger's own where a longer run has it
+// too: every step, a period's time; not an end cap or a list's last time,
+// which the stop set (Run splits its stop round by this).
+TEST(Trigger, AFiringAtTheStopIsOwnOnlyWhereALongerRunHasIt) {
+  EveryTime outputs(0.5, 4.3), samples(0.1, 4.3);
+  outputs.pass(4.2, 0);
+  samples.pass(4.2, 0);
+  EXPECT_DOUBLE_EQ(outputs.next_time(), 4.3);  // the cap
+  EXPECT_FALSE(outputs.own_firing(4.3, 0));
+  EXPECT_DOUBLE_EQ(samples.next_time(), 4.3);  // 43 intervals
+  EXPECT_TRUE(samples.own_firing(4.3, 0));
+
+  const EverySteps every(1, 1);
+  EXPECT_TRUE(every.own_firing(0.0, 7));
+
+  AtSteps list({0, 10, 100, 350});
+  list.pass(0.0, 100);
+  EXPECT_EQ(list.next_step(), 350);
+  EXPECT_FALSE(list.own_firing(0.0, 350));
+
+  const AnyOf both({std::make_shared<AtSteps>(std::vector<std::int64_t>{350}), std::make_shared<EverySteps>(1)});
+  EXPECT_TRUE(both.own_firing(0.0, 350));
+  const AnyOf lists({std::make_shared<AtSteps>(std::vector<std::int64_t>{350}),
+                     std::make_shared<AtSteps>(std::vector<std::int64_t>{400})});
+  EXPECT_FALSE(lists.own_firing(0.0, 350));
 }
 
 }  // namespace
