@@ -20,12 +20,20 @@ source "$(dirname "$0")/common.sh"
 check() {  # check NAME TOML "observables..." ARGS...
   local name="$1" toml="$2" observables="$3"; shift 3
   "$granflow" run "$scenarios/$toml" "$@" -q -o "$work/$name-whole.h5" || { echo "FAIL: $name uninterrupted"; failures=$((failures + 1)); return; }
-  "$granflow" run "$scenarios/$toml" "$@" -o "$work/$name-cut.h5" 2> "$work/$name.log" &
+  local table=()
+  [[ -n "${AFTER_START:-}" ]] && table=(--log 1)
+  "$granflow" run "$scenarios/$toml" "$@" "${table[@]}" -o "$work/$name-cut.h5" 2> "$work/$name.log" &
   local pid=$!
   if [[ -n "${UNTIL_CHECKPOINT:-}" ]]; then
     # An ensemble writes its checkpoint when a member finishes: waiting for it
     # interrupts the ensemble part-way whatever the machine's speed.
     while kill -0 $pid 2> /dev/null && [[ ! -e "$work/$name-cut.h5.checkpoint" ]]; do sleep 0.05; done
+  elif [[ -n "${AFTER_START:-}" ]]; then
+    # One run prints its table's header (--log) when its initial state is
+    # ready: the signal then lands AFTER_START seconds into the stepping,
+    # however long the preparation took on this machine.
+    while kill -0 $pid 2> /dev/null && ! grep -q '^ *step ' "$work/$name.log"; do sleep 0.02; done
+    sleep "$(awk -v d="$AFTER_START" -v s="${GRANFLOW_SLOWDOWN:-1}" 'BEGIN { print d * s }')"
   else
     # Instrumented builds (tests/sanitizers.sh) run several times slower.
     sleep "$(awk -v d="$DELAY" -v s="${GRANFLOW_SLOWDOWN:-1}" 'BEGIN { print d * s }')"
@@ -71,23 +79,23 @@ print(f"ok: {sys.argv[2]} equals the uninterrupted run in {len(paths) if names e
 PY
 }
 
-DELAY=1.5 check haff haff_cooling.toml "kinetic_energy temperature collisions_per_particle" \
-  --set system.count=60000 --set system.radius=0.0064 --set run.t_stop=40 --set initial.equilibration_collisions=5
-DELAY=1.5 check brownian brownian_edmd.toml "msd msd_stderr time_averaged_msd ergodicity_breaking" \
+AFTER_START=0.4 check haff haff_cooling.toml "kinetic_energy temperature collisions_per_particle" \
+  --set system.count=30000 --set system.radius=0.005 --set run.t_stop=10 --set initial.equilibration_collisions=5
+UNTIL_CHECKPOINT=1 check brownian brownian_edmd.toml "msd msd_stderr time_averaged_msd ergodicity_breaking" \
   --set run.runs=4 --set run.t_stop=300 --set system.count=500 --set system.radius=0.03
-DELAY=1.5 check langevin langevin_msd.toml "" \
-  --set run.runs=1 --set run.t_stop=20 --set system.count=200000 --set msd.time_average_particles=200 \
+DELAY=1 check langevin langevin_msd.toml "" \
+  --set run.runs=1 --set run.t_stop=20 --set system.count=100000 --set msd.time_average_particles=200 \
   --set output.positions=first_last
 # Soft spheres and SRD: every dataset, particle frames and fields included.
-DELAY=1.5 check shaken shaken_bed.toml "" \
-  --set run.t_stop=25 --set output.average_after=10 --set contact.friction=0.5 --set output.positions=all
-DELAY=1.5 check vibrated vibrated_bed.toml "" --set system.count=4000 --set run.t_stop=20 --set output.interval=0.5 \
+AFTER_START=0.4 check shaken shaken_bed.toml "" \
+  --set run.t_stop=10 --set output.average_after=4 --set contact.friction=0.5 --set output.positions=all
+AFTER_START=0.4 check vibrated vibrated_bed.toml "" --set system.count=4000 --set run.t_stop=8 --set output.interval=0.5 \
   --set output.average_after=1 --set output.positions=all
-DELAY=1 check gsrd_cooling gsrd_cooling.toml "" --set 'system.cells=[16,16,16]' --set run.steps=3000 \
+AFTER_START=0.4 check gsrd_cooling gsrd_cooling.toml "" --set 'system.cells=[16,16,16]' --set run.steps=1200 \
   --set fields.every_steps=100 --set output.positions=first_last
 # An ensemble of three (two cores): interrupted while its third run goes on,
 # the two finished ones come back from the checkpoint, their units with them.
-UNTIL_CHECKPOINT=1 check gsrd_ensemble gsrd_cooling.toml "" --set 'system.cells=[16,16,16]' --set run.steps=1500 \
+UNTIL_CHECKPOINT=1 check gsrd_ensemble gsrd_cooling.toml "" --set 'system.cells=[16,16,16]' --set run.steps=1000 \
   --set run.runs=3 --threads 2
 /usr/bin/python3 - "$work/gsrd_ensemble-whole.h5" "$work/gsrd_ensemble-cut.h5" <<'PY' || failures=$((failures + 1))
 import sys, h5py
@@ -96,12 +104,12 @@ units = lambda f: {n: f[f"observables/{n}/value"].attrs.get("unit") for n in f["
 assert units(a) == units(b) and units(a)["temperature_stderr"] == units(a)["temperature"], (units(a), units(b))
 print("ok: the resumed ensemble keeps every series' unit")
 PY
-DELAY=1 check gsrd_shaken gsrd_shaken.toml "" --set 'system.cells=[8,8,40]' --set run.steps=1200 \
-  --set fields.every_steps=100 --set fields.window=20 --set output.positions=all
-DELAY=1 check srd_viscosity srd_viscosity.toml "" --set run.steps=12000 --set fields.every_steps=500 \
-  --set output.positions=first_last
-DELAY=1 check srd_poiseuille srd_poiseuille.toml "" --set run.steps=8000 --set fields.every_steps=500 \
-  --set output.positions=first_last
+AFTER_START=0.4 check gsrd_shaken gsrd_shaken.toml "" --set 'system.cells=[8,8,40]' --set run.steps=600 \
+  --set shaken.warmup_steps=200 --set fields.every_steps=100 --set fields.window=20 --set output.positions=all
+AFTER_START=0.4 check srd_viscosity srd_viscosity.toml "" --set run.steps=4000 --set viscosity.warmup_steps=1000 \
+  --set fields.every_steps=500 --set output.positions=first_last
+AFTER_START=0.4 check srd_poiseuille srd_poiseuille.toml "" --set run.steps=3000 --set poiseuille.warmup_steps=500 \
+  --set fields.every_steps=500 --set output.positions=first_last
 
 # A finished run extends: the same result as one run to the later stop.
 extend() {  # extend NAME TOML STOP_KEY FIRST SECOND ARGS...
@@ -114,8 +122,8 @@ extend() {  # extend NAME TOML STOP_KEY FIRST SECOND ARGS...
       -o "$work/$name-ext.h5" --resume || { echo "FAIL: $name extension"; failures=$((failures + 1)); return; }
   same_result "$work/$name-whole.h5" "$work/$name-ext.h5"
 }
-extend shaken_ext shaken_bed.toml run.t_stop 10 20 --set output.average_after=5 --set output.positions=all
-extend cooling_ext gsrd_cooling.toml run.steps 1000 2000 --set 'system.cells=[16,16,16]' --set fields.every_steps=100
+extend shaken_ext shaken_bed.toml run.t_stop 4 8 --set output.average_after=2 --set output.positions=all
+extend cooling_ext gsrd_cooling.toml run.steps 500 1000 --set 'system.cells=[16,16,16]' --set fields.every_steps=100
 
 preparing() {  # preparing NAME TOML ARGS...: SIGINT during the preparation
   local name="$1" toml="$2"; shift 2

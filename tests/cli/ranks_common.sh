@@ -48,8 +48,16 @@ print(f"ok: {sys.argv[2]} agrees with {sys.argv[1]} in {len(paths)} datasets "
 PY
 }
 
+# stepping LOG: returns half a second after rank 0 has printed its table's
+# header (--log) to LOG, that is, half a second into the stepping, however
+# long the start took on this machine.
+stepping() {
+  for _ in $(seq 1 3000); do grep -q '^ *step ' "$1" 2> /dev/null && break; sleep 0.02; done
+  sleep 0.5
+}
+
 # interrupted K OUT ARGS...: `granflow ARGS -o OUT` on K ranks, SIGINT to the
-# launcher two seconds into the run: every rank stops at one step, rank 0
+# launcher half a second into the stepping: every rank stops at one step, rank 0
 # writes the checkpoint and says so once, and no result file is left. The
 # launcher starts with SIGINT handled as from a terminal: a script's
 # background job inherits it ignored (or blocked), and mpirun keeps it so.
@@ -59,10 +67,9 @@ interrupted() {
 signal.signal(signal.SIGINT, signal.SIG_DFL)
 signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
 os.execvp(sys.argv[1], sys.argv[1:])' \
-    "$mpiexec" -np "$k" --oversubscribe --bind-to none "$granflow" "$@" -o "$out" > "$out.log" 2>&1 &
+    "$mpiexec" -np "$k" --oversubscribe --bind-to none "$granflow" "$@" --log 1 -o "$out" > "$out.log" 2>&1 &
   local launcher=$!
-  for _ in $(seq 1 1500); do [[ -e "$out.partial" ]] && break; sleep 0.02; done
-  sleep 2
+  stepping "$out.log"
   kill -INT "$launcher"
   wait "$launcher"; local status=$?
   if [[ $status -ne 0 && -e "$out.checkpoint" && ! -e "$out" && ! -e "$out.partial" ]] \
@@ -94,10 +101,9 @@ killed() {
 # once, the job exits with 128 + 15, and no result file is left.
 terminated() {
   local k="$1" out="$2"; shift 2
-  ranks "$k" "$@" -o "$out" > "$out.log" 2>&1 &
+  ranks "$k" "$@" --log 1 -o "$out" > "$out.log" 2>&1 &
   local launcher=$!
-  for _ in $(seq 1 1500); do [[ -e "$out.partial" ]] && break; sleep 0.02; done
-  sleep 2
+  stepping "$out.log"
   local victim="" pid
   for pid in $(pgrep -f "^$granflow .*-o $out"); do
     grep -qxz "OMPI_COMM_WORLD_RANK=$((k - 1))" "/proc/$pid/environ" 2>/dev/null && victim=$pid
