@@ -35,6 +35,8 @@ class Trigger {
   // the last time of an output list (lists are built to end at the stop)
   // or an end cap.
   virtual bool own_firing(double, std::int64_t) const { return false; }
+  // Whether a firing is due at (time, step).
+  bool due(double time, std::int64_t step) const;
 };
 
 using TriggerPtr = std::shared_ptr<Trigger>;
@@ -44,6 +46,10 @@ inline constexpr double trigger_time_tolerance = 1e-12;
 
 inline bool time_reached(double due, double now) {
   return due <= now || due <= now + trigger_time_tolerance * std::abs(now);
+}
+
+inline bool Trigger::due(double time, std::int64_t step) const {
+  return time_reached(next_time(), time) || next_step() <= step;
 }
 
 // At each of a sorted list of times.
@@ -156,7 +162,7 @@ class AnyOf : public Trigger {
   }
   bool own_firing(double time, std::int64_t step) const override {
     return std::any_of(parts_.begin(), parts_.end(), [&](const auto& p) {
-      return (time_reached(p->next_time(), time) || p->next_step() <= step) && p->own_firing(time, step);
+      return p->due(time, step) && p->own_firing(time, step);
     });
   }
   const std::vector<TriggerPtr>& parts() const { return parts_; }

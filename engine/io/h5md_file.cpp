@@ -402,11 +402,17 @@ std::size_t H5mdFile::particles_in_frames(const std::string& name) const {
   return s == series_.end() || s->second->shape.empty() ? 0 : static_cast<std::size_t>(s->second->shape.front());
 }
 
-void H5mdFile::restore_frames(const StateMap& state) {
+void H5mdFile::restore_frames(const StateMap& state, const std::map<std::string, std::size_t>* limit) {
   const std::string suffix = "/shape";
   for (const auto& [key, shape_values] : state) {
     if (key.size() <= suffix.size() || key.compare(key.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
     const std::string path = key.substr(0, key.size() - suffix.size());
+    std::size_t frames = state.at(path + "/step").size();
+    if (limit) {
+      const auto cap = limit->find(path);
+      if (cap == limit->end()) continue;
+      frames = std::min(frames, cap->second);
+    }
     const auto& step = state.at(path + "/step");
     const auto& time = state.at(path + "/time");
     const auto& value = state.at(path + "/value");
@@ -416,7 +422,7 @@ void H5mdFile::restore_frames(const StateMap& state) {
     for (hsize_t e : shape) inner *= e;
     if (step.size() != time.size() || value.size() != step.size() * inner)
       throw std::invalid_argument("checkpoint frames of " + path + " have inconsistent sizes");
-    for (std::size_t f = 0; f < step.size(); ++f) {
+    for (std::size_t f = 0; f < frames; ++f) {
       Series& s = series(path, inner, shape, integer ? H5T_NATIVE_INT32 : H5T_NATIVE_DOUBLE,
                          numbers_as_text(state.at(path + "/unit")), numbers_as_text(state.at(path + "/time_unit")));
       const double* frame = value.data() + f * inner;

@@ -84,7 +84,9 @@ class H5mdFile {
   std::map<std::string, std::size_t> frame_counts() const;
   // The particles in the frames of /particles/all/NAME (0 where none was written).
   std::size_t particles_in_frames(const std::string& name) const;
-  void restore_frames(const StateMap& state);
+  // With a `limit` (series path -> frames), each series' first frames alone
+  // and none of a series it lacks.
+  void restore_frames(const StateMap& state, const std::map<std::string, std::size_t>* limit = nullptr);
   // Where the run came from, segment by segment: every segment of a resumed
   // run (command line, version and revision, host, threads, start, end, wall
   // time) is carried in its checkpoints, and the file lists them all under

@@ -32,29 +32,6 @@ void Run::initial_state(const std::function<void(World&)>& create) { initial_sta
 namespace {
 // Rows of the particle arrays read at once when a rank picks its own.
 constexpr std::size_t rows_per_read = std::size_t{1} << 18;
-
-// A checkpoint's frames cut to `counts` (series path -> {frames}); a series
-// that `counts` lacks is left out.
-StateMap frames_up_to(const StateMap& frames, const StateMap& counts) {
-  StateMap out;
-  const std::string suffix = "/shape";
-  for (const auto& [key, shape] : frames) {
-    if (key.size() <= suffix.size() || key.compare(key.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
-    const std::string path = key.substr(0, key.size() - suffix.size());
-    const auto count = counts.find(path);
-    if (count == counts.end() || count->second.empty()) continue;
-    for (const char* part : {"/step", "/time", "/value", "/shape", "/integer", "/unit", "/time_unit"})
-      if (const auto entry = frames.find(path + part); entry != frames.end()) out[path + part] = entry->second;
-    std::size_t inner = 1;
-    for (const double extent : shape) inner *= static_cast<std::size_t>(extent);
-    const auto kept = std::min(static_cast<std::size_t>(count->second.front()), out[path + "/step"].size());
-    out[path + "/step"].resize(kept);
-    out[path + "/time"].resize(kept);
-    out[path + "/value"].resize(kept * inner);
-  }
-  return out;
-}
-
 }  // namespace
 
 void Run::initial_state(const std::function<void(World&)>& create, const OwnedOnResume& owned) {
@@ -171,12 +148,15 @@ void Run::prepare() {
     recorder_->replay(file_, state_under(*resume_, "history"));
     if (file_) file_->restore_frames(state_under(*resume_, "frames"));
   } else {
-    ObservableRecorder::SeriesLengths series;
-    for (const auto& [name, length] : state_under(*resume_, "stop_round/series"))
-      series[name] = static_cast<std::size_t>(length.at(0));
+    const auto lengths = [&](const std::string& under) {
+      std::map<std::string, std::size_t> out;
+      for (const auto& [name, length] : state_under(*resume_, under)) out[name] = static_cast<std::size_t>(length.at(0));
+      return out;
+    };
+    const auto series = lengths("stop_round/series");
     recorder_->replay(file_, state_under(*resume_, "history"), &series);
-    if (file_) file_->restore_frames(frames_up_to(state_under(*resume_, "frames"),
-                                                  state_under(*resume_, "stop_round/frames")));
+    const auto frames = lengths("stop_round/frames");
+    if (file_) file_->restore_frames(state_under(*resume_, "frames"), &frames);
     for (const auto& [name, object] : kept_)
       if (const StateMap before = state_under(*resume_, "stop_round/kept/" + name); !before.empty())
         object->restore_state(before);
@@ -197,8 +177,7 @@ bool Run::stop_round_left_out() {
   const auto& clock = world_.resource<Clock>();
   for (auto& trigger : triggers_) {
     trigger->pass(before->second[0], static_cast<std::int64_t>(before->second[1]));
-    const bool due = time_reached(trigger->next_time(), clock.time) || trigger->next_step() <= clock.step;
-    if (due && !trigger->own_firing(clock.time, clock.step)) return false;
+    if (trigger->due(clock.time, clock.step) && !trigger->own_firing(clock.time, clock.step)) return false;
   }
   return true;
 }
@@ -372,7 +351,7 @@ void Run::fire(bool stopping, double target_time, std::int64_t target_step, Firi
   const auto& clock = world_.resource<Clock>();
   run_observers([&](const Trigger& t) {
     if (which != Firing::all && t.own_firing(clock.time, clock.step) != (which == Firing::own)) return false;
-    bool due = time_reached(t.next_time(), clock.time) || t.next_step() <= clock.step;
+    bool due = t.due(clock.time, clock.step);
     if (stopping)
       due = due || (t.next_time() != Trigger::never && time_reached(t.next_time(), target_time)) ||
             (t.next_step() != Trigger::no_step && t.next_step() <= target_step);

@@ -29,11 +29,7 @@ check() {  # check NAME TOML "observables..." ARGS...
     # interrupts the ensemble part-way whatever the machine's speed.
     while kill -0 $pid 2> /dev/null && [[ ! -e "$work/$name-cut.h5.checkpoint" ]]; do sleep 0.05; done
   elif [[ -n "${AFTER_START:-}" ]]; then
-    # One run prints its table's header (--log) when its initial state is
-    # ready: the signal then lands AFTER_START seconds into the stepping,
-    # however long the preparation took on this machine.
-    while kill -0 $pid 2> /dev/null && ! grep -q '^ *step ' "$work/$name.log"; do sleep 0.02; done
-    sleep "$(awk -v d="$AFTER_START" -v s="${GRANFLOW_SLOWDOWN:-1}" 'BEGIN { print d * s }')"
+    after_stepping_starts "$work/$name.log" "$AFTER_START" $pid
   else
     # Instrumented builds (tests/sanitizers.sh) run several times slower.
     sleep "$(awk -v d="$DELAY" -v s="${GRANFLOW_SLOWDOWN:-1}" 'BEGIN { print d * s }')"

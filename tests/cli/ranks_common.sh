@@ -48,14 +48,6 @@ print(f"ok: {sys.argv[2]} agrees with {sys.argv[1]} in {len(paths)} datasets "
 PY
 }
 
-# stepping LOG: returns half a second after rank 0 has printed its table's
-# header (--log) to LOG, that is, half a second into the stepping, however
-# long the start took on this machine.
-stepping() {
-  for _ in $(seq 1 3000); do grep -q '^ *step ' "$1" 2> /dev/null && break; sleep 0.02; done
-  sleep 0.5
-}
-
 # interrupted K OUT ARGS...: `granflow ARGS -o OUT` on K ranks, SIGINT to the
 # launcher half a second into the stepping: every rank stops at one step, rank 0
 # writes the checkpoint and says so once, and no result file is left. The
@@ -69,7 +61,7 @@ signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
 os.execvp(sys.argv[1], sys.argv[1:])' \
     "$mpiexec" -np "$k" --oversubscribe --bind-to none "$granflow" "$@" --log 1 -o "$out" > "$out.log" 2>&1 &
   local launcher=$!
-  stepping "$out.log"
+  after_stepping_starts "$out.log" 0.5 "$launcher"
   kill -INT "$launcher"
   wait "$launcher"; local status=$?
   if [[ $status -ne 0 && -e "$out.checkpoint" && ! -e "$out" && ! -e "$out.partial" ]] \
@@ -103,7 +95,7 @@ terminated() {
   local k="$1" out="$2"; shift 2
   ranks "$k" "$@" --log 1 -o "$out" > "$out.log" 2>&1 &
   local launcher=$!
-  stepping "$out.log"
+  after_stepping_starts "$out.log" 0.5 "$launcher"
   local victim="" pid
   for pid in $(pgrep -f "^$granflow .*-o $out"); do
     grep -qxz "OMPI_COMM_WORLD_RANK=$((k - 1))" "/proc/$pid/environ" 2>/dev/null && victim=$pid
