@@ -159,7 +159,7 @@ PY
 
 # Signals, against one uninterrupted run on 2 ranks (with checkpoints every
 # 0.3 s of wall-clock time, which the killed rank resumes from).
-big=(--set 'system.cells=[16,16,16]' --set run.steps=1200 -q)
+big=(--set 'system.cells=[24,24,24]' --set run.steps=1200 -q)
 periodic=(--set output.checkpoint_interval=0.3)
 ranks 2 run "$cooling" "${big[@]}" "${periodic[@]}" -o "$work/unkilled.h5" || fail "2-rank reference exited with $?"
 no_gather "$work/unkilled.h5"
