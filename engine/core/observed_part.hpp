@@ -15,14 +15,20 @@
 // a rank's particles lie in the layers [low, high) of unit cells along
 // `axis` (a slab of whole cells), and `whole_field` places every rank's
 // layers into the whole grid on rank 0, the one that writes.
+//
+// Where a rank's particles are a contiguous range of the whole system's
+// order (the soft-sphere step keeps them so), `sums` adds their terms in the
+// whole's own grouping (ordered_sums.hpp): the same bits as one process.
 
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "engine/core/communicator.hpp"
+#include "engine/core/ordered_sums.hpp"
 
 namespace granflow {
 
@@ -32,6 +38,9 @@ class ObservedPart {
   ObservedPart() = default;
   ObservedPart(const Communicator& ranks, int axis, std::int64_t low, std::int64_t high)
       : ranks_(&ranks), axis_(axis), low_(low), high_(high) {}
+  // A part whose particles are the whole order's [first, first + size).
+  ObservedPart(const Communicator& ranks, int axis, std::int64_t low, std::int64_t high, std::uint64_t first)
+      : ranks_(&ranks), axis_(axis), low_(low), high_(high), first_(first), ordered_(true) {}
 
   bool whole() const { return ranks_ == nullptr; }
   // Whether this process writes the result file: the one process, or rank 0.
@@ -40,6 +49,23 @@ class ObservedPart {
   double total(double mine) const { return whole() ? mine : ranks_->add_across({mine}).front(); }
   std::vector<double> total(const std::vector<double>& mine) const {
     return whole() ? mine : ranks_->add_across(mine);
+  }
+
+  // The whole system's binned sums of `term` over this part's `n`
+  // particles (ordered_sums), on every rank. Collective.
+  template <class Term>
+  std::vector<double> sums(std::size_t n, std::size_t bins, std::size_t width, Term&& term) const {
+    if (whole()) return ordered_sums(n, bins, width, std::forward<Term>(term));
+    if (!ordered_) throw std::logic_error("this part's particles are no range of the whole system's order");
+    return sums_from_messages(ranks_->gather_all(part_message(first_, n, width, std::forward<Term>(term))), bins, width);
+  }
+  // One sum of `term(i)` over the part's n particles, as `sums` adds it.
+  template <class Term>
+  double sum(std::size_t n, Term&& term) const {
+    return sums(n, 1, 1, [&](std::size_t i, double* value) {
+      value[0] = term(i);
+      return std::size_t{0};
+    }).front();
   }
 
   // The largest of the ranks' values, on every rank.
@@ -95,6 +121,8 @@ class ObservedPart {
   const Communicator* ranks_ = nullptr;
   int axis_ = 0;
   std::int64_t low_ = 0, high_ = 0;
+  std::uint64_t first_ = 0;
+  bool ordered_ = false;
 };
 
 }  // namespace granflow

@@ -52,6 +52,10 @@ class System {
   // returns them to the step afterwards. Collective.
   virtual bool lend_part(World&) { return false; }
   virtual void take_back_part(World&) {}
+  // Whether a checkpoint may be written from the lent parts, each rank its
+  // rows (write_checkpoint_by_rank); else it is written from the whole,
+  // gathered onto rank 0.
+  virtual bool checkpoints_by_rank() const { return true; }
 };
 
 }  // namespace granflow

@@ -84,6 +84,48 @@ inline void write_particle_constants(H5mdFile& file, const ParticleConstantsView
     file.write_particle_constant("species", flatten_integers_by_id(view.read<Species>(), order));
 }
 
+// The same constants where each rank holds its own particles, which carry
+// their ids (observers that run by rank): every rank sends its particles'
+// ids and constants to the writing rank, which places them by id, so that
+// no rank holds more of the whole than its constants. `file` is the writing
+// rank's (null on the others, which take part all the same). Collective.
+inline void write_particle_constants_by_rank(H5mdFile* file, const ParticleConstantsView& view,
+                                             const ObservedPart& part) {
+  const bool radius = view.has<Radius>(), species = view.has<Species>();
+  const std::size_t width = 2 + (radius ? 1 : 0) + (species ? 1 : 0);
+  const auto& id = view.read<ParticleId>();
+  const auto& mass = view.read<Mass>();
+  std::vector<double> mine;
+  mine.reserve(view.size() * width);
+  for (std::size_t i = 0; i < view.size(); ++i) {
+    mine.push_back(static_cast<double>(id[i]));
+    mine.push_back(mass[i]);
+    if (radius) mine.push_back(view.read<Radius>()[i]);
+    if (species) mine.push_back(static_cast<double>(view.read<Species>()[i]));
+  }
+  const std::vector<double> all = part.to_writer(mine);
+  if (!file) return;
+  const std::size_t n = all.size() / width;
+  std::vector<double> masses(n), radii(radius ? n : 0);
+  std::vector<std::int32_t> ids(n), kinds(species ? n : 0);
+  std::vector<bool> seen(n, false);
+  for (std::size_t k = 0; k < n; ++k) {
+    const double* row = all.data() + k * width;
+    const auto i = static_cast<std::size_t>(row[0]);
+    if (i >= n || seen[i])
+      throw std::logic_error(fmt::format("particle constants: id {} of {} particles arrived twice or out of range", i, n));
+    seen[i] = true;
+    masses[i] = row[1];
+    if (radius) radii[i] = row[2];
+    if (species) kinds[i] = static_cast<std::int32_t>(row[width - 1]);
+  }
+  file->write_particle_constant("mass", masses, 1, unit::mass);
+  if (radius) file->write_particle_constant("radius", radii, 1, unit::length);
+  std::iota(ids.begin(), ids.end(), 0);
+  file->write_particle_constant("id", ids);
+  if (species) file->write_particle_constant("species", kinds);
+}
+
 // Positions (wrapped into the box), velocities and, where the World counts
 // periodic images, the images: position + image * edges is the unwrapped position.
 template <int D>

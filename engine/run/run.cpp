@@ -203,7 +203,7 @@ StateMap Run::save(RankRows* rows) {
   System* lending = nullptr;
   if (rows && communicator_ && communicator_->size() > 1)
     for (const auto& system : steps_.systems())
-      if (system->lend_part(world_)) {
+      if (system->checkpoints_by_rank() && system->lend_part(world_)) {
         lending = system.get();
         break;
       }
@@ -416,6 +416,11 @@ RunOutcome Run::execute(const std::atomic<bool>* interrupt, const std::function<
       stop.round_time = round_time_;
       stop.round_step = round_step_;
       stop.before = written();
+      // A step whose checkpoint is written from the whole keeps its state
+      // (the lists) there: the whole as of the stop, which the final
+      // checkpoint then reads without gathering it again.
+      for (const auto& system : steps_.systems())
+        if (!system->checkpoints_by_rank()) system->synchronise_host(world_);
       for (const auto& [name, object] : kept_) stop.kept_before.emplace_back(name, object->save_state());
       fire(control.stop, target_time, target_step, Firing::set_by_stop);
     } else {
@@ -449,15 +454,31 @@ double Run::progress_fraction() const {
   return std::clamp(fraction, 0.0, 1.0);
 }
 
+// Over ranks, where the step lends each rank its particles and they carry
+// their ids, the particle constants are written from the parts: without a
+// gather of the whole. Collective.
+bool Run::write_particle_constants_by_rank() {
+  if (!world_.has_component<Mass>() || !world_.has_component<ParticleId>()) return false;
+  for (const auto& system : steps_.systems()) {
+    if (!system->lend_part(world_)) continue;
+    granflow::write_particle_constants_by_rank(file_, ParticleConstantsView(world_), world_.resource<ObservedPart>());
+    world_.emplace_resource<ObservedPart>();
+    system->take_back_part(world_);
+    return true;
+  }
+  return false;
+}
+
 void Run::write_results(const RunOutcome& outcome) {
   const bool on_ranks = communicator_ && communicator_->size() > 1;
-  if (!on_ranks || finish_reads_particles_ || world_.has_component<Mass>()) synchronise_host();
+  const bool constants_written = on_ranks && !finish_reads_particles_ && write_particle_constants_by_rank();
+  if (!on_ranks || finish_reads_particles_ || (world_.has_component<Mass>() && !constants_written)) synchronise_host();
   for (const auto& system : steps_.systems())
     for (const ProfileEntry& entry : system->device_profile()) profiler_.record_device(entry);
   if (!file_) return;
   if (!box_edges_.empty()) file_->write_box(box_edges_, box_boundary_);
   for (const auto& [name, value] : derived_) file_->write_attribute("/parameters/derived", name, value);
-  if (world_.size() > 0 && world_.has_component<Mass>()) write_particle_constants(*file_, world_);
+  if (!constants_written && world_.size() > 0 && world_.has_component<Mass>()) write_particle_constants(*file_, world_);
   for (const auto& hook : finish_hooks_) hook(*file_, outcome);
   file_->write_attribute("/observables", "stop_reason", outcome.reason);
 }

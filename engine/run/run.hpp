@@ -195,6 +195,7 @@ class Run {
   // and what they asked of the step systems) on every rank.
   void share_observers_outcome();
   bool observe_by_rank(bool reads_particles);
+  bool write_particle_constants_by_rank();
   // The first stop criterion met, decided by rank 0 over ranks.
   std::optional<std::string> stop_criterion_met();
 

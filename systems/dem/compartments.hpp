@@ -12,12 +12,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <stdexcept>
 #include <vector>
 
 #include "components/clock.hpp"
+#include "components/compartment_side.hpp"
 #include "components/position.hpp"
 #include "engine/core/config.hpp"
 #include "engine/core/observable_store.hpp"
@@ -67,7 +69,6 @@ inline std::array<double, 2> fit_eggers_flux(const std::vector<double>& samples,
 class CompartmentCounts : public Stateful {
  public:
   static constexpr const char* key = "dem_compartments";
-  std::vector<double> left;  // per sphere: 1 on the left, 0 on the right (as doubles for the checkpoint)
   double left_to_right = 0.0, right_to_left = 0.0;  // since the last output
   // Over the outputs from `average_from` on: sums of a and |a|, their count,
   // and all crossings.
@@ -80,15 +81,13 @@ class CompartmentCounts : public Stateful {
   double last_left_fraction = -1.0;
 
   StateMap save_state() const override {
-    return {{"left", left},
-            {"flux", {left_to_right, right_to_left}},
+    return {{"flux", {left_to_right, right_to_left}},
             {"averages", {sum, abs_sum, samples, crossings, last_left_fraction}},
             {"flux_samples", flux_samples}};
   }
   void restore_state(const StateMap& state) override {
     if (state.at("flux").size() != 2 || state.at("averages").size() != 5)
       throw std::invalid_argument("checkpoint compartment counts have the wrong size");
-    left = state.at("left");
     left_to_right = state.at("flux")[0];
     right_to_left = state.at("flux")[1];
     sum = state.at("averages")[0];
@@ -100,30 +99,35 @@ class CompartmentCounts : public Stateful {
   }
 };
 
+// Each sphere's side now against the side it was on at the last step
+// (CompartmentSide), every step. Over ranks each rank looks at its own
+// spheres, and the step's crossings are added over the ranks (exact
+// counts), so every rank keeps the whole system's.
 template <int D>
-class CompartmentSampler : public SystemOf<Reads<Position<D>>, Writes<CompartmentCounts>> {
+class CompartmentSampler : public SystemOf<Reads<Position<D>>, Writes<CompartmentSide, CompartmentCounts>> {
  public:
-  using View = typename SystemOf<Reads<Position<D>>, Writes<CompartmentCounts>>::View;
+  using View = typename SystemOf<Reads<Position<D>>, Writes<CompartmentSide, CompartmentCounts>>::View;
   CompartmentSampler(int axis, double position, std::shared_ptr<CompartmentCounts> counts)
       : axis_(axis), position_(position), counts_(std::move(counts)) {}
   std::string name() const override { return "sample_compartments"; }
+  bool observes_by_rank() const override { return true; }
   void run_on(View view) override {
     const auto& x = view.template read<Position<D>>();
-    auto& c = *counts_;
-    if (c.left.size() != view.size()) {
-      c.left.assign(view.size(), 0.0);
-      for (std::size_t i = 0; i < view.size(); ++i) c.left[i] = x[i][axis_] < position_ ? 1.0 : 0.0;
-      return;
-    }
+    auto& side = view.template write<CompartmentSide>();
+    double to_right = 0.0, to_left = 0.0;
     for (std::size_t i = 0; i < view.size(); ++i) {
-      const double now = x[i][axis_] < position_ ? 1.0 : 0.0;
-      if (now < c.left[i]) c.left_to_right += 1.0;
-      if (now > c.left[i]) c.right_to_left += 1.0;
-      c.left[i] = now;
+      const std::uint8_t now = x[i][axis_] < position_ ? left : right;
+      if (side[i] == left && now == right) to_right += 1.0;
+      if (side[i] == right && now == left) to_left += 1.0;
+      side[i] = now;
     }
+    const std::vector<double> crossed = view.part().total(std::vector<double>{to_right, to_left});
+    counts_->left_to_right += crossed[0];
+    counts_->right_to_left += crossed[1];
   }
 
  private:
+  static constexpr std::uint8_t left = 1, right = 2;
   int axis_;
   double position_;
   std::shared_ptr<CompartmentCounts> counts_;
@@ -142,11 +146,15 @@ class CompartmentObserver : public SystemOf<Reads<Position<D>, Clock>, Writes<Co
         .writes_observable("flux_left_to_right", unit::none)
         .writes_observable("flux_right_to_left", unit::none);
   }
+  // Counts of spheres, exact whatever the ranks add.
+  bool observes_by_rank() const override { return true; }
   void run_on(View view) override {
     const auto& x = view.template read<Position<D>>();
-    double left = 0.0;
-    for (std::size_t i = 0; i < view.size(); ++i) left += x[i][axis_] < position_ ? 1.0 : 0.0;
-    const auto n = static_cast<double>(view.size());
+    double own_left = 0.0;
+    for (std::size_t i = 0; i < view.size(); ++i) own_left += x[i][axis_] < position_ ? 1.0 : 0.0;
+    const std::vector<double> totals =
+        view.part().total(std::vector<double>{own_left, static_cast<double>(view.size())});
+    const double left = totals[0], n = totals[1];
     const double a = n > 0 ? (2.0 * left - n) / n : 0.0;
     auto& c = *counts_;
     c.crossings += c.left_to_right + c.right_to_left;
@@ -189,13 +197,8 @@ void add_compartments(Run& run, const TriggerPtr& outputs, double divider_x, dou
   const auto counts = std::make_shared<CompartmentCounts>();
   counts->average_from = average_from;
   run.keep("compartments", *counts);
-  // Each sphere's side follows it when the neighbour lists reorder the spheres.
-  run.world().on_permute([counts](const std::vector<std::uint32_t>& order) {
-    if (counts->left.size() != order.size()) return;
-    std::vector<double> left(order.size());
-    for (std::size_t k = 0; k < order.size(); ++k) left[k] = counts->left[order[k]];
-    counts->left.swap(left);
-  });
+  // A resumed run has the sides from its checkpoint.
+  if (!run.world().has_component<CompartmentSide>()) run.world().add_component<CompartmentSide>();
   run.observe<CompartmentSampler<D>>(std::make_shared<EverySteps>(1), 0, divider_x, counts);
   run.observe<CompartmentObserver<D>>(outputs, 0, divider_x, counts);
   run.at_finish([counts](H5mdFile& file, const RunOutcome&) {

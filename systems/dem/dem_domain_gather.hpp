@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "components/angular_velocity.hpp"
+#include "components/compartment_side.hpp"
 #include "components/force.hpp"
 #include "components/image_count.hpp"
 #include "components/mass.hpp"
@@ -46,6 +47,7 @@ struct DomainColumns {
   typename ImageCount<3>::value_type* image = nullptr;
   Vec<3>* omega = nullptr;
   Vec<3>* torque = nullptr;
+  std::uint8_t* side = nullptr;  // where an observer keeps one (CompartmentSide)
 };
 // `local`: the World of one rank (whose spheres carry their WholeIndex).
 inline DomainColumns columns_of(World& world, bool images, bool rotating, bool local) {
@@ -62,6 +64,7 @@ inline DomainColumns columns_of(World& world, bool images, bool rotating, bool l
     c.omega = world.component<AngularVelocity>().data();
     c.torque = world.component<Torque>().data();
   }
+  if (world.has_component<CompartmentSide>()) c.side = world.component<CompartmentSide>().data();
   return c;
 }
 
@@ -100,8 +103,8 @@ inline void gather_whole(const Communicator& ranks, World& local, std::size_t fr
   const std::size_t walls = nl.walls;
   const DomainColumns c = columns_of(local, images, rotating, true);
   // Per sphere: position, velocity, force, reference, id, mass, radius,
-  // images, spin and torque, wall springs, its pair count.
-  const std::size_t width = 16 + (images ? 3 : 0) + (rotating ? 6 + 3 * walls : 0);
+  // images, spin and torque, wall springs, its side, its pair count.
+  const std::size_t width = 16 + (images ? 3 : 0) + (rotating ? 6 + 3 * walls : 0) + (c.side ? 1 : 0);
   std::vector<double> spheres, pairs;
   spheres.reserve(count * width);
   for (std::size_t i = from; i < from + count; ++i) {
@@ -120,6 +123,7 @@ inline void gather_whole(const Communicator& ranks, World& local, std::size_t fr
       add(c.torque[i]);
       for (std::size_t w = 0; w < walls; ++w) add(nl.wall_shear[i * walls + w]);
     }
+    if (c.side) spheres.push_back(c.side[i]);
     const auto [begin, end] = nl.pairs_of(i);
     spheres.push_back(end - begin);
     for (std::uint32_t p = begin; p < end; ++p) {
@@ -161,6 +165,10 @@ inline void gather_whole(const Communicator& ranks, World& local, std::size_t fr
       k += 6;
       for (std::size_t wall = 0; wall < walls; ++wall, k += 3)
         whole_nl.wall_shear[i * walls + wall] = {d[k], d[k + 1], d[k + 2]};
+    }
+    if (c.side) {
+      if (w.side) w.side[i] = static_cast<std::uint8_t>(d[k]);
+      ++k;
     }
     whole_nl.offsets[i + 1] = whole_nl.offsets[i] + static_cast<std::uint32_t>(d[k]);
     ++per_layer[grid.cell_of(whole_nl.reference[i]) / grid.stride(2) + 1];

@@ -34,13 +34,17 @@
 // slab bounds or the threads; a run resumes bit for bit on any number of
 // ranks.
 //
-// Observers and checkpoints read the World, which on rank 0 is the whole
-// system: synchronise_host gathers every rank's spheres into it, in rank
+// Observers run on every rank over its own spheres: lend_part puts them
+// into the World, in the whole system's order, and the observers total
+// their sums over the ranks in the whole's own grouping (ObservedPart::sums),
+// so that they too are one rank's bit for bit. A sphere's side of a divider
+// (CompartmentSide) travels with it. No rank then holds the whole system.
+// Checkpoints, and an observer that cannot run by rank, read the whole on
+// rank 0: synchronise_host gathers every rank's spheres into it, in rank
 // order, which is the whole system's order, with the neighbour lists, so
-// that a checkpoint is that of one rank and resumes on any number of ranks.
-// Only rank 0 observes and writes (Run::run_observers shares its
-// observers' decisions), so the other ranks let go of the whole system
-// once they have their slab.
+// that a checkpoint is that of one rank and resumes on any number of ranks;
+// rank 0 observes alone and shares its decisions (Run::run_observers), and
+// lets the whole go at the next step.
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -57,6 +61,7 @@
 #include <numeric>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -64,6 +69,7 @@
 #include "components/angular_velocity.hpp"
 #include "components/box.hpp"
 #include "components/clock.hpp"
+#include "components/compartment_side.hpp"
 #include "components/force.hpp"
 #include "components/image_count.hpp"
 #include "components/mass.hpp"
@@ -73,6 +79,7 @@
 #include "components/torque.hpp"
 #include "components/velocity.hpp"
 #include "engine/core/communicator.hpp"
+#include "engine/core/observed_part.hpp"
 #include "engine/core/phase_times.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
@@ -128,6 +135,8 @@ class DemDomainStep : public DemDomainStepBase {
 
   void run_on(View view) override {
     if (!scattered_) scatter(view);
+    // A whole that a round gathered onto rank 0 is stale once the step moves on.
+    else if (view.size() > 0) release_whole(view);
     times_.timed(0, [&] { kick_drift_.run(local_); });
     view.template write<Clock>() = local_.resource<Clock>();
     // The drift moved the rank's own spheres only (move_own_only) and
@@ -178,14 +187,79 @@ class DemDomainStep : public DemDomainStepBase {
     host_current_ = true;
   }
 
+  // This rank's own spheres, in the whole system's order, lent to the
+  // World for observers that run by rank (ObservedPart, whose sums take the
+  // whole's grouping: the same bits as one rank): the World's columns are
+  // set aside until take_back_part. The last step's energy terms are
+  // booked first, as synchronise_host books them for the whole.
+  bool lend_part(World& world) override {
+    if (!scattered_) scatter(View(world));
+    std::size_t lendable = 0;
+    for_each_column([&](auto column, auto&) {
+      lendable += world.has_component<typename decltype(column)::type>() ? 1 : 0;
+    });
+    if (lendable != world.column_count()) return false;
+    if (pending_valid_) {
+      std::vector<double> all;
+      times_.timed(10, [&] { all = ranks_.gather_all(pending_); });
+      book_energy_terms(View(world), all);
+    }
+    lent_from_size_ = world.size();
+    for_each_column([&](auto column, auto& stash) {
+      using C = typename decltype(column)::type;
+      if (!world.has_component<C>()) return;
+      auto& values = world.component<C>().values;
+      stash.swap(values);
+      const auto& own = local_.component<C>().values;
+      values.assign(own.begin() + static_cast<std::ptrdiff_t>(below_),
+                    own.begin() + static_cast<std::ptrdiff_t>(below_ + owned_));
+    });
+    world.resize(owned_);
+    world.emplace_resource<ObservedPart>(ranks_, 2, slab_.low(), slab_.high(), first_own_index_);
+    return true;
+  }
+  // A checkpoint carries the neighbour lists in the whole system's order,
+  // which the ranks' rows would not keep: it is written from the whole.
+  bool checkpoints_by_rank() const override { return false; }
+  void take_back_part(World& world) override {
+    // What an observer keeps per sphere goes back with it.
+    if (sides_ && world.has_component<CompartmentSide>()) {
+      const auto& kept = world.component<CompartmentSide>().values;
+      std::copy(kept.begin(), kept.end(),
+                local_.component<CompartmentSide>().values.begin() + static_cast<std::ptrdiff_t>(below_));
+    }
+    for_each_column([&](auto column, auto& stash) {
+      using C = typename decltype(column)::type;
+      if (world.has_component<C>()) world.component<C>().values.swap(stash);
+    });
+    world.resize(lent_from_size_);
+  }
+
   std::vector<ProfileEntry> device_profile() const override { return times_.entries("dem_domain_step", ranks_); }
 
  private:
   // A sphere packed for another rank: its whole index, id, mass, radius,
-  // position and velocity, images, spin and wall springs where the run has
-  // them, then its pairs' springs (partner id and shear each).
+  // position and velocity, images, spin and wall springs, and its side of a
+  // divider where the run has them, then its pairs' springs (partner id and
+  // shear each).
   std::size_t fixed_width() const {
-    return 10 + (images_ ? 3 : 0) + (rotating_ ? 3 + 3 * walls_ : 0);
+    return 10 + (images_ ? 3 : 0) + (rotating_ ? 3 + 3 * walls_ : 0) + (sides_ ? 1 : 0);
+  }
+
+  // Each column the step holds, with the place a lent World's own column
+  // waits in meanwhile.
+  template <class Visit>
+  void for_each_column(Visit&& visit) {
+    visit(std::type_identity<Position<3>>{}, lent_.x);
+    visit(std::type_identity<Velocity<3>>{}, lent_.v);
+    visit(std::type_identity<Force<3>>{}, lent_.f);
+    visit(std::type_identity<Mass>{}, lent_.mass);
+    visit(std::type_identity<Radius>{}, lent_.radius);
+    visit(std::type_identity<ParticleId>{}, lent_.id);
+    visit(std::type_identity<ImageCount<3>>{}, lent_.image);
+    visit(std::type_identity<AngularVelocity>{}, lent_.omega);
+    visit(std::type_identity<Torque>{}, lent_.torque);
+    visit(std::type_identity<CompartmentSide>{}, lent_.side);
   }
 
   // ---- the start: this rank's part of the whole World -------------------
@@ -197,6 +271,7 @@ class DemDomainStep : public DemDomainStepBase {
       throw std::logic_error("the soft-sphere step over ranks needs the whole system's lists built in cell order");
     images_ = view.template has<ImageCount<3>>();
     rotating_ = view.template has<AngularVelocity>();
+    sides_ = view.template has<CompartmentSide>();
     walls_ = whole_nl.walls;
     const auto& mass = view.template read<Mass>().values;
     const auto& radius = view.template read<Radius>().values;
@@ -226,6 +301,7 @@ class DemDomainStep : public DemDomainStepBase {
     const auto [first, end] = held_layers();
     const std::uint32_t base = whole_nl.slabs[first], count = whole_nl.slabs[end] - base;
     below_ = whole_nl.slabs[slab_.low()] - base;
+    first_own_index_ = whole_nl.slabs[slab_.low()];
     owned_ = whole_nl.slabs[slab_.high()] - whole_nl.slabs[slab_.low()];
     local_.resize(count);
     auto& x = local_.component<Position<3>>();
@@ -247,6 +323,7 @@ class DemDomainStep : public DemDomainStepBase {
         local_.component<AngularVelocity>()[k] = view.template read<AngularVelocity>()[i];
         local_.component<Torque>()[k] = view.template read<Torque>()[i];
       }
+      if (sides_) local_.component<CompartmentSide>()[k] = view.template read<CompartmentSide>()[i];
     }
     // The lists of the layers below the top one held: the whole system's,
     // whose partners all lie in the layers held; the top layer's own reach
@@ -279,8 +356,13 @@ class DemDomainStep : public DemDomainStepBase {
     forces_.as_part_of_whole(first_layer_, alike_[0], alike_[1]);
     count_edges();
     scattered_ = true;
-    // Only rank 0 observes and writes: the others need the whole no more.
-    if (ranks_.rank() > 0) view.release();
+    // No rank needs the whole any more: observers run by rank, and a round
+    // that cannot gathers it onto rank 0 again.
+    release_whole(view);
+  }
+  static void release_whole(View view) {
+    view.release();
+    view.template write<NeighbourList<3>>().release();
   }
 
   void add_columns() {
@@ -296,6 +378,7 @@ class DemDomainStep : public DemDomainStepBase {
       local_.add_component<AngularVelocity>();
       local_.add_component<Torque>();
     }
+    if (sides_) local_.add_component<CompartmentSide>();
   }
 
   // The layers this rank holds: its slab and the layer either side of it
@@ -467,11 +550,13 @@ class DemDomainStep : public DemDomainStepBase {
       std::int64_t before = 0;
       const std::vector<double> counts = ranks_.gather_all({static_cast<double>(owned_)});
       for (int r = 0; r < slab_.rank; ++r) before += static_cast<std::int64_t>(counts[static_cast<std::size_t>(r)]);
+      first_own_index_ = static_cast<std::uint64_t>(before);
       auto& index = local_.component<WholeIndex>();
       for (std::size_t i = 0; i < local_.size(); ++i)
         index[i] = static_cast<double>(before) - static_cast<double>(below_) + static_cast<double>(i);
       build_lists();
       ++nl.builds;
+      view.template write<NeighbourList<3>>().builds = nl.builds;
       forces_.as_part_of_whole(first_layer_, alike_[0], alike_[1]);
       count_edges();
     });
@@ -495,7 +580,7 @@ class DemDomainStep : public DemDomainStepBase {
   static constexpr std::uint32_t none = ~std::uint32_t{0};
 
   // Sphere i (of the local World's columns c) onto `out`: its whole index, id, mass, radius, position and
-  // velocity, images, spin and wall springs where the run has them, then
+  // velocity, images, spin and wall springs, its side where the run has them, then
   // the springs of the pairs it is the first of (partner id and shear each),
   // from the last build's lists where the rank owned it, else as they came
   // with it.
@@ -516,6 +601,7 @@ class DemDomainStep : public DemDomainStepBase {
         out.insert(out.end(), h.begin(), h.end());
       }
     }
+    if (c.side) out.push_back(c.side[i]);
     const std::size_t count_at = out.size();
     out.push_back(0.0);
     const auto add = [&](std::uint32_t partner, const Shear& h) {
@@ -576,6 +662,7 @@ class DemDomainStep : public DemDomainStepBase {
         for (std::size_t wall = 0; wall < walls_; ++wall, at += 3)
           nl.wall_shear[i * walls_ + wall] = {d[at], d[at + 1], d[at + 2]};
       }
+      if (c.side) c.side[i] = static_cast<std::uint8_t>(d[at++]);
       const auto count = static_cast<std::size_t>(d[at++]);
       if (count == 0) continue;
       auto& springs = arrived_[c.id[i]];
@@ -609,6 +696,7 @@ class DemDomainStep : public DemDomainStepBase {
       permute(local_.component<AngularVelocity>().values, spare_vectors_);
       permute(local_.component<Torque>().values, spare_vectors_);
     }
+    if (sides_) permute(local_.component<CompartmentSide>().values, spare_sides_);
   }
 
   // Reorders the local World (and what follows its spheres outside it):
@@ -843,7 +931,7 @@ class DemDomainStep : public DemDomainStepBase {
   DemContactForces<3> forces_;
   DemKick<3> kick_;
   bool scattered_ = false, host_current_ = true;
-  bool images_ = false, rotating_ = false;
+  bool images_ = false, rotating_ = false, sides_ = false;
   std::array<bool, 2> alike_{};  // the whole system's: all masses equal, all radii equal
   std::size_t walls_ = 0;
   std::size_t first_layer_ = 0;  // of the whole system's, held as local layer 0
@@ -851,6 +939,16 @@ class DemDomainStep : public DemDomainStepBase {
   // spheres [below_, below_ + owned_), the copies of the layer above.
   std::size_t below_ = 0, owned_ = 0;
   std::size_t send_low_ = 0, send_high_ = 0;  // own spheres in the lowest and highest layer
+  std::uint64_t first_own_index_ = 0;          // the first own sphere's in the whole system's order
+  // A World's columns while it holds this rank's part (lend_part), and its size.
+  struct LentColumns {
+    std::vector<Vec<3>> x, v, f, omega, torque;
+    std::vector<double> mass, radius;
+    std::vector<std::uint32_t> id;
+    std::vector<typename ImageCount<3>::value_type> image;
+    std::vector<std::uint8_t> side;
+  } lent_;
+  std::size_t lent_from_size_ = 0;
   // During a build: the lists of the last one, the ids of the spheres as
   // they were then, and for each sphere now held where it was then, if
   // this rank owned it (else `none`); the springs that came with spheres
@@ -861,6 +959,7 @@ class DemDomainStep : public DemDomainStepBase {
   std::vector<double> spare_reals_;
   std::vector<std::uint32_t> spare_ids_;
   std::vector<typename ImageCount<3>::value_type> spare_images_;
+  std::vector<std::uint8_t> spare_sides_;
   NeighbourList<3> previous_;
   std::vector<std::uint32_t> previous_ids_, was_;
   std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, Shear>>> arrived_;

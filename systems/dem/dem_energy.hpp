@@ -15,7 +15,7 @@
 #include "components/position.hpp"
 #include "components/radius.hpp"
 #include "components/velocity.hpp"
-#include "engine/core/deterministic_sum.hpp"
+#include "engine/core/observed_part.hpp"
 #include "engine/core/observable_store.hpp"
 #include "engine/core/state_map.hpp"
 #include "engine/core/system.hpp"
@@ -81,6 +81,9 @@ class DemEnergyObserver : public DemEnergyObserverBase<D> {
  public:
   using View = typename DemEnergyObserverBase<D>::View;
   std::string name() const override { return "observe_dem_energy"; }
+  // The spheres' sums in the whole system's grouping; the contacts' terms
+  // are the whole's on every rank.
+  bool observes_by_rank() const override { return true; }
   Access access() const override {
     return View::access()
         .writes_observable("kinetic_energy", unit::energy)
@@ -103,10 +106,11 @@ class DemEnergyObserver : public DemEnergyObserverBase<D> {
     const Vec<3>* w =
         view.template has<AngularVelocity>() ? view.template read<AngularVelocity>().values.data() : nullptr;
     const auto& r = view.template read<Radius>();
-    store.set("kinetic_energy", 0.5 * deterministic_sum(n, [&](std::size_t i) {
+    const ObservedPart& part = view.part();
+    store.set("kinetic_energy", 0.5 * part.sum(n, [&](std::size_t i) {
                 return m[i] * v[i].squaredNorm() + (w ? 0.4 * m[i] * r[i] * r[i] * w[i].squaredNorm() : 0.0);
               }));
-    store.set("potential_energy", -deterministic_sum(n, [&](std::size_t i) {
+    store.set("potential_energy", -part.sum(n, [&](std::size_t i) {
                 double h = 0.0;
                 for (int a = 0; a < D; ++a) h += in.gravity[a] * x[i][a];
                 return m[i] * h;
@@ -115,7 +119,8 @@ class DemEnergyObserver : public DemEnergyObserverBase<D> {
     store.set("energy_injected", ledger.injected);
     store.set("energy_dissipated", ledger.dissipated);
     store.set("contact_count", static_cast<double>(in.contacts));
-    store.set("coordination_number", n ? 2.0 * static_cast<double>(in.contacts) / static_cast<double>(n) : 0.0);
+    const double spheres = part.total(static_cast<double>(n));
+    store.set("coordination_number", spheres > 0 ? 2.0 * static_cast<double>(in.contacts) / spheres : 0.0);
   }
 };
 

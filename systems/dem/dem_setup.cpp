@@ -221,7 +221,9 @@ double add_dem_step(Run& run, const std::array<double, 3>& box, const std::array
   run.finished_reason("reached run.t_stop");
   const auto n = static_cast<double>(c.integer("system.count"));
   run.rate("particle-steps/s", [&run, n] { return n * static_cast<double>(run.clock().step); });
-  run.at_finish_reading_particles([&run](H5mdFile& file, const RunOutcome&) {
+  // The build count is kept in the World's lists on every rank (over ranks
+  // the step's own lists count them), so the end gathers nothing for it.
+  run.at_finish([&run](H5mdFile& file, const RunOutcome&) {
     const auto& nl = run.world().resource<NeighbourList<D>>();
     file.write_attribute("/observables", "neighbour_list_builds", static_cast<double>(nl.builds));
     spdlog::info("{} steps, {} neighbour-list builds", run.clock().step, nl.builds);

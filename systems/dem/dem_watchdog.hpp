@@ -105,6 +105,8 @@ class DemEnergyWatch : public SystemOf<Reads<Clock, DemWatch<D>>, Writes<RunCont
   using View = typename SystemOf<Reads<Clock, DemWatch<D>>, Writes<RunControl>>::View;
   static constexpr double tolerance = 0.25;  // of the energy turned over
   std::string name() const override { return "watch_dem_energy"; }
+  // It reads the observables, which are the whole system's on every rank.
+  bool observes_by_rank() const override { return true; }
   Access access() const override {
     return View::access()
         .reads_observable("kinetic_energy")

@@ -18,6 +18,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -29,6 +30,7 @@
 #include "components/radius.hpp"
 #include "components/velocity.hpp"
 #include "engine/core/observable_store.hpp"
+#include "engine/core/observed_part.hpp"
 #include "engine/core/state_map.hpp"
 #include "engine/core/system.hpp"
 #include "engine/core/system_catalogue.hpp"
@@ -74,19 +76,19 @@ HeightProfiles height_profiles(const View<Reads<Position<D>, Velocity<D>, Radius
   const std::size_t parts = g.suffixes().size(), k_count = g.layers();
   // Per part and layer: volume, count, mass, momentum (D), m |v|^2.
   const std::size_t w = 4 + D;
-  std::vector<double> sums(parts * k_count * w, 0.0);
-  for (std::size_t i = 0; i < view.size(); ++i) {
+  // Over ranks each sums its own spheres, in the whole system's grouping.
+  const std::vector<double> sums = view.part().sums(view.size(), parts * k_count, w, [&](std::size_t i, double* s) {
     const double h = x[i][g.up];
-    if (h < 0.0 || h >= g.height) continue;
-    const auto k = static_cast<std::size_t>(h / g.layer);
+    if (!(h >= 0.0 && h < g.height)) return no_bin;
+    const auto k = std::min(static_cast<std::size_t>(h / g.layer), k_count - 1);
     const std::size_t part = g.split_axis < 0 || x[i][g.split_axis] < g.split_at ? 0 : 1;
-    double* s = &sums[(part * k_count + k) * w];
-    s[0] += 4.0 / 3.0 * std::numbers::pi * r[i] * r[i] * r[i];
-    s[1] += 1.0;
-    s[2] += m[i];
-    for (int a = 0; a < D; ++a) s[3 + a] += m[i] * v[i][a];
-    s[3 + D] += m[i] * v[i].squaredNorm();
-  }
+    s[0] = 4.0 / 3.0 * std::numbers::pi * r[i] * r[i] * r[i];
+    s[1] = 1.0;
+    s[2] = m[i];
+    for (int a = 0; a < D; ++a) s[3 + a] = m[i] * v[i][a];
+    s[3 + D] = m[i] * v[i].squaredNorm();
+    return part * k_count + k;
+  });
   HeightProfiles out;
   for (std::size_t part = 0; part < parts; ++part) {
     std::vector<double> packing(k_count), temperature(k_count), count(k_count);
@@ -112,6 +114,7 @@ class DemHeightProfiles : public SystemOf<Reads<Position<D>, Velocity<D>, Radius
   using View = typename SystemOf<Reads<Position<D>, Velocity<D>, Radius, Mass>, Writes<>>::View;
   explicit DemHeightProfiles(HeightProfileGeometry g) : g_(g) {}
   std::string name() const override { return "observe_dem_height_profiles"; }
+  bool observes_by_rank() const override { return true; }
   Access access() const override {
     Access a = View::access();
     for (const std::string& suffix : g_.suffixes()) {
@@ -150,6 +153,8 @@ class DemHeightProfileAverage : public SystemOf<Reads<Clock, Position<D>, Veloci
   using View = typename SystemOf<Reads<Clock, Position<D>, Velocity<D>, Radius, Mass>, Writes<>>::View;
   explicit DemHeightProfileAverage(HeightProfileGeometry g) : g_(g) {}
   std::string name() const override { return "observe_dem_height_profile_average"; }
+  // Its sums are the whole system's on every rank.
+  bool observes_by_rank() const override { return true; }
   void run_on(View view) override {
     if (view.template read<Clock>().time < g_.average_from) return;
     const HeightProfiles now = height_profiles<D>(view, g_);

@@ -82,6 +82,14 @@ struct NeighbourList : Stateful {
   std::uint64_t builds = 0;
 
   bool built() const { return !offsets.empty(); }
+  // No lists, and their memory given back (the settings and the build count stay).
+  void release() {
+    for (auto* v : {&order, &rank, &offsets, &list, &first, &slabs}) std::vector<std::uint32_t>().swap(*v);
+    std::vector<Vec<D>>().swap(reference);
+    std::vector<Shear>().swap(shear);
+    std::vector<Shear>().swap(wall_shear);
+    domains = {};
+  }
   // Sphere i's pairs.
   std::pair<std::uint32_t, std::uint32_t> pairs_of(std::size_t i) const { return {offsets[rank[i]], offsets[rank[i] + 1]}; }
 

@@ -27,6 +27,8 @@ class DemWallObserver : public SystemOf<Reads<Clock, DemInteractions<D>>, Writes
  public:
   using View = typename SystemOf<Reads<Clock, DemInteractions<D>>, Writes<>>::View;
   std::string name() const override { return "observe_dem_walls"; }
+  // The walls' forces are the whole system's on every rank.
+  bool observes_by_rank() const override { return true; }
   Access access() const override {
     return View::access()
         .writes_observable("wall_position", unit::length)

@@ -8,6 +8,8 @@
 #    (the upper ranks then hold no sphere at all);
 #  - the deep vibrated bed, periodic sideways, with friction (the springs'
 #    history crosses the slab boundaries) and particle frames;
+#  - every observer runs by rank (their sums in the one-rank grouping): no
+#    round gathers the bed;
 #  - a run stopped on 2 ranks and extended on 3, and one stopped on one
 #    process and extended on 2, equal the uninterrupted one-rank run;
 #  - SIGINT to mpirun stops every rank at one step with one checkpoint and
@@ -37,6 +39,11 @@ alike shaken_friction "$bed" "${shaken[@]}" --set contact.friction=0.5
 alike shaken_equal_slabs "$bed" "${shaken[@]}" --set balance.every_steps=0
 deep_args=(--set run.t_stop=0.6 --set output.interval=0.2 --set contact.friction=0.3 --set output.positions=all)
 alike deep_friction "$deep" "${deep_args[@]}"
+# Every observer runs on every rank over its own spheres, the compartment
+# sampler every step: no round gathers the bed onto rank 0.
+for run in shaken_2 shaken_friction_3 deep_friction_3; do
+  no_gather "$work/$run.h5" dem_domain_step observe_dem_energy
+done
 
 # The bed lies in the lowest layers: the slabs move to it at the start.
 ranks 3 run "$bed" "${shaken[@]}" -o "$work/balanced.h5" > "$work/balanced.log" 2>&1 || fail "balanced run exited with $?"

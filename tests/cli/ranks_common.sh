@@ -109,3 +109,19 @@ terminated() {
     fail "SIGTERM to one rank: exit $status, victim '$victim', files: $(ls "$(dirname "$out")" | tr '\n' ' '), log: $(cat "$out.log")"
   fi
 }
+
+# no_gather FILE STEP OBSERVER: OBSERVER ran at least twice and STEP never
+# gathered the system onto rank 0 (its profile row STEP.gather).
+no_gather() {
+  /usr/bin/python3 - "$@" <<'PY' || failures=$((failures + 1))
+import h5py, sys
+path, step, observer = sys.argv[1:4]
+profile = h5py.File(path, 'r')['profile']
+calls = {s.decode(): c for s, c in zip(profile['system'][()], profile['calls'][()])}
+observed = calls.get(observer, 0)
+if observed < 2: sys.exit(f"FAIL: {path}: {observer} ran {observed} times")
+gathers = calls.get(f'{step}.gather')
+if gathers != 0: sys.exit(f"FAIL: {path}: the observers gathered the system {gathers} times")
+print(f"ok: {path}: {observed} observations, no gather")
+PY
+}

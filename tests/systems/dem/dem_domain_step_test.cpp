@@ -2,13 +2,15 @@
 // against the one-rank chain it must reproduce bit for bit (its slower,
 // simpler reference): a shaken bed with friction, whose lists are rebuilt
 // from the migrated spheres and whose springs are carried by the pairs'
-// ids rather than by the previous lists; and a sphere driven through the
+// ids rather than by the previous lists; observers of the part it lends
+// see the chain's values; and a sphere driven through the
 // floor stops the run with the one-rank diagnosis. The step over 2 and 3
 // real ranks is tests/cli/dem_ranks_test.sh.
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <numeric>
 #include <vector>
@@ -16,6 +18,7 @@
 #include "components/angular_velocity.hpp"
 #include "components/box.hpp"
 #include "components/clock.hpp"
+#include "components/compartment_side.hpp"
 #include "components/force.hpp"
 #include "components/mass.hpp"
 #include "components/particle_id.hpp"
@@ -24,9 +27,12 @@
 #include "components/torque.hpp"
 #include "components/velocity.hpp"
 #include "engine/core/communicator.hpp"
+#include "engine/core/observable_store.hpp"
+#include "engine/core/observed_part.hpp"
 #include "engine/core/rng.hpp"
 #include "engine/core/world.hpp"
 #include "engine/run/run_control.hpp"
+#include "systems/dem/compartments.hpp"
 #include "systems/dem/contact_forces.hpp"
 #include "systems/dem/dem_domain_step.hpp"
 #include "systems/dem/dem_energy.hpp"
@@ -153,6 +159,56 @@ TEST(DemDomainStep, OnALoneRankItIsTheOneRankChainBitForBit) {
   EXPECT_EQ(ranked.resource<DemLedger>().injected, chain.resource<DemLedger>().injected);
   EXPECT_EQ(ranked.resource<DemLedger>().dissipated, chain.resource<DemLedger>().dissipated);
   EXPECT_EQ(ranked.resource<DemInteractions<3>>().elastic, chain.resource<DemInteractions<3>>().elastic);
+}
+
+// Observers over ranks see the rank's own spheres, lent to the World: the
+// compartment sampler, whose sides travel with the spheres through the
+// step's reorderings, and the energy observer, whose sums take the whole
+// system's grouping, give the one-rank chain's values bit for bit.
+TEST(DemDomainStep, ObserversOfTheLentPartSeeTheOneRankChainsValues) {
+  World chain, ranked;
+  make_bed(chain);
+  make_bed(ranked);
+  for (World* world : {&chain, &ranked}) {
+    world->add_component<CompartmentSide>();
+    auto& store = world->emplace_resource<ObservableStore>();
+    for (const char* name : {"kinetic_energy", "potential_energy", "elastic_energy", "energy_injected",
+                             "energy_dissipated", "contact_count", "coordination_number"})
+      store.declare(name);
+  }
+  DemKickDrift<3> drift(dt);
+  DemNeighbourList<3> lists;
+  DemContactForces<3> forces;
+  DemKick<3> kick(dt);
+  const LoneRank lone;
+  DemDomainStep step = lone_step(lone, ranked);
+  const auto chain_counts = std::make_shared<CompartmentCounts>(), ranked_counts = std::make_shared<CompartmentCounts>();
+  CompartmentSampler<3> chain_sampler(0, 3.0, chain_counts), ranked_sampler(0, 3.0, ranked_counts);
+  DemEnergyObserver<3> energy;
+  const auto observe = [&](World& world, CompartmentSampler<3>& sampler) {
+    sampler.run(world);
+    energy.run(world);
+    return world.resource<ObservableStore>();
+  };
+  for (int s = 0; s < 1500; ++s) {
+    drift.run(chain);
+    lists.run(chain);
+    forces.run(chain);
+    kick.run(chain);
+    step.run(ranked);
+    ObservableStore alone = observe(chain, chain_sampler);
+    ASSERT_TRUE(step.lend_part(ranked)) << "step " << s;
+    ASSERT_EQ(ranked.size(), chain.size());
+    ObservableStore lent = observe(ranked, ranked_sampler);
+    ranked.emplace_resource<ObservedPart>();
+    step.take_back_part(ranked);
+    for (const char* name : {"kinetic_energy", "potential_energy", "elastic_energy", "coordination_number"})
+      ASSERT_EQ(lent.scalar(name), alone.scalar(name)) << name << " at step " << s;
+  }
+  EXPECT_GT(chain_counts->left_to_right, 2.0) << "spheres must cross the divider for the sides to be tested";
+  EXPECT_GT(chain_counts->right_to_left, 2.0);
+  EXPECT_EQ(ranked_counts->left_to_right, chain_counts->left_to_right);
+  EXPECT_EQ(ranked_counts->right_to_left, chain_counts->right_to_left);
 }
 
 TEST(DemDomainStep, ASphereThroughTheFloorStopsTheRunAsOnOneRank) {
