@@ -62,17 +62,22 @@ void build(Run& run) {
     sites = dem::divided_bed_sites(box, divider_x, n, radius,
                                    (c.text("shaking.motion") == "wiggle" ? 2.0 : 1.0) * amplitude);
   run.initial_state([&](World& world) {
-    auto [x, v] = dem::add_spheres(world, n, radius, mass);
     if (stored) {
+      dem::add_spheres(world, n, radius, mass);
       place_stored_state<D>(world, box, {false, false, false}, stored_state_of(c), dem::stored_state_limits);
       return;
     }
-    for (std::size_t i = 0; i < n; ++i) {
-      x[i] = sites[i];
-      Philox random(stream::dem_initial, run.seed(), 0, i);
-      for (int a = 0; a < D; ++a) v[i][a] = 0.1 * random.normal();
+    // Over ranks each makes its part of the bed.
+    const std::vector<std::size_t> made =
+        dem::sites_made_here(c, run.communicator(), box, {false, false, false}, sites, radius);
+    auto [x, v] = dem::add_spheres(world, made, n, run.communicator(), radius, mass);
+    for (std::size_t k = 0; k < made.size(); ++k) {
+      x[k] = sites[made[k]];
+      Philox random(stream::dem_initial, run.seed(), 0, made[k]);
+      for (int a = 0; a < D; ++a) v[k][a] = 0.1 * random.normal();
     }
   });
+  std::vector<Vec<D>>().swap(sites);
   const auto outputs = std::make_shared<EveryTime>(c.real("output.interval"), c.real("run.t_stop"));
   const double dt = dem::add_dem_step(run, box, {false, false, false}, law, walls, dem::damping_key(c), outputs);
   dem::add_compartments<D>(run, outputs, divider_x, c.real("output.average_after"));

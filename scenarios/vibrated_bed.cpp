@@ -58,17 +58,28 @@ void build(Run& run) {
     if (n > sites.size())
       throw ConfigError(fmt::format("system.count = {} exceeds the {} lattice sites of bed.fill at bed.lattice_density "
                                     "= {}", n, sites.size(), c.real("bed.lattice_density")));
+    sites.resize(n);
   }
   const double temperature = c.real("bed.temperature");
   run.initial_state([&](World& world) {
-    auto [x, v] = dem::add_spheres(world, n, radius, mass);
     if (stored) {
+      dem::add_spheres(world, n, radius, mass);
       place_stored_state<D>(world, box, {true, true, false}, stored_state_of(c), dem::stored_state_limits);
       return;
     }
-    for (std::size_t i = 0; i < n; ++i) x[i] = sites[i];
-    draw_thermal_velocities<D>(v.values, temperature, mass, stream::dem_initial, run.seed());
+    // Over ranks each makes its part of the bed; every velocity is drawn,
+    // for the mean that they all lose.
+    const std::vector<std::size_t> made =
+        dem::sites_made_here(c, run.communicator(), box, {true, true, false}, sites, radius);
+    auto [x, v] = dem::add_spheres(world, made, n, run.communicator(), radius, mass);
+    std::vector<Vec<D>> velocities(n);
+    draw_thermal_velocities<D>(velocities, temperature, mass, stream::dem_initial, run.seed());
+    for (std::size_t k = 0; k < made.size(); ++k) {
+      x[k] = sites[made[k]];
+      v[k] = velocities[made[k]];
+    }
   });
+  std::vector<Vec<D>>().swap(sites);
   const auto outputs = std::make_shared<EveryTime>(c.real("output.interval"), c.real("run.t_stop"));
   const double dt = dem::add_dem_step(run, box, {true, true, false}, law, walls, dem::damping_key(c), outputs);
   dem::HeightProfileGeometry profile;

@@ -21,6 +21,11 @@
 //    step are summed per layer, and added over the layers in their order
 //    at the next step's gather, or at the next gather of the whole system.
 //
+// A fresh bed starts from the part each rank made (bed_by_part.hpp): the
+// slabs are settled by sphere count, and the first lists and forces are
+// built over the ranks as a build does; a resumed run or a stored start
+// scatters the whole that every rank read.
+//
 // Every sphere's force is summed as on one rank, bit for bit: a rank holds
 // its spheres in the whole system's cell order (each carries its index in
 // the whole system at the last build, which orders the spheres of a cell at
@@ -57,6 +62,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <optional>
@@ -86,6 +92,7 @@
 #include "engine/core/view.hpp"
 #include "engine/core/world.hpp"
 #include "engine/run/run_control.hpp"
+#include "systems/dem/bed_by_part.hpp"
 #include "systems/dem/contact_forces.hpp"
 #include "systems/dem/dem_domain_gather.hpp"
 #include "systems/dem/dem_energy.hpp"
@@ -112,7 +119,7 @@ struct DemDomainBalance {
 };
 
 using DemDomainStepBase =
-    SystemOf<Reads<Box<3>, DemWatch<3>>,
+    SystemOf<Reads<Box<3>, DemWatch<3>, BedByPart>,
              Writes<EveryColumn, Clock, NeighbourList<3>, DemInteractions<3>, DemLedger, RunControl>>;
 
 class DemDomainStep : public DemDomainStepBase {
@@ -134,7 +141,7 @@ class DemDomainStep : public DemDomainStepBase {
   std::string name() const override { return "dem_domain_step"; }
 
   void run_on(View view) override {
-    if (!scattered_) scatter(view);
+    if (!scattered_) start(view);
     // A whole that a round gathered onto rank 0 is stale once the step moves on.
     else if (view.size() > 0) release_whole(view);
     times_.timed(0, [&] { kick_drift_.run(local_); });
@@ -177,6 +184,8 @@ class DemDomainStep : public DemDomainStepBase {
   // Every rank's spheres into the whole World, in the whole system's order,
   // with the lists as one rank would hold them.
   void synchronise_host(World& whole) override {
+    // A World that holds this rank's part of a fresh bed is no whole yet.
+    if (!scattered_ && View(whole).has<BedByPart>()) start(View(whole));
     if (pending_valid_) {
       std::vector<double> all;
       times_.timed(10, [&] { all = ranks_.gather_all(pending_); });
@@ -193,7 +202,7 @@ class DemDomainStep : public DemDomainStepBase {
   // set aside until take_back_part. The last step's energy terms are
   // booked first, as synchronise_host books them for the whole.
   bool lend_part(World& world) override {
-    if (!scattered_) scatter(View(world));
+    if (!scattered_) start(View(world));
     std::size_t lendable = 0;
     for_each_column([&](auto column, auto&) {
       lendable += world.has_component<typename decltype(column)::type>() ? 1 : 0;
@@ -262,25 +271,109 @@ class DemDomainStep : public DemDomainStepBase {
     visit(std::type_identity<CompartmentSide>{}, lent_.side);
   }
 
-  // ---- the start: this rank's part of the whole World -------------------
+  // ---- the start: this rank's part of the system -------------------------
+
+  // From the rank's part of a fresh bed (bed_by_part.hpp), or else from the
+  // whole system that every rank holds (a resumed run, a stored start).
+  void start(View view) {
+    if (view.template has<BedByPart>()) start_from_part(view);
+    else scatter(view);
+  }
+
+  // What the local World takes from the run's, whatever it holds: the
+  // optional columns, the box, the contacts, the lists' settings, the
+  // clock; and whether all masses and all radii are equal over the ranks.
+  void take_settings(View view) {
+    const auto& settings = view.template read<NeighbourList<3>>();
+    images_ = view.template has<ImageCount<3>>();
+    rotating_ = view.template has<AngularVelocity>();
+    sides_ = view.template has<CompartmentSide>();
+    walls_ = settings.walls;
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    // The least mass and radius and, negated, the largest, over the ranks.
+    std::vector<double> extremes{inf, inf, inf, inf};
+    for (const double m : view.template read<Mass>().values) {
+      extremes[0] = std::min(extremes[0], m);
+      extremes[1] = std::min(extremes[1], -m);
+    }
+    for (const double r : view.template read<Radius>().values) {
+      extremes[2] = std::min(extremes[2], r);
+      extremes[3] = std::min(extremes[3], -r);
+    }
+    const std::vector<double> all = ranks_.gather_all(extremes);
+    for (std::size_t k = 0; k < all.size(); ++k) extremes[k % 4] = std::min(extremes[k % 4], all[k]);
+    alike_ = {extremes[0] == -extremes[1], extremes[2] == -extremes[3]};
+    local_.resource<Clock>() = view.template read<Clock>();
+    last_balance_ = local_.resource<Clock>().step;
+    local_.emplace_resource<Box<3>>(view.template read<Box<3>>());
+    local_.emplace_resource<DemInteractions<3>>(view.template read<DemInteractions<3>>());
+    auto& nl = local_.emplace_resource<NeighbourList<3>>();
+    nl.skin = settings.skin;
+    nl.reorder = true;
+    nl.keeps_history = settings.keeps_history;
+    nl.walls = settings.walls;
+    nl.builds = settings.builds;
+    add_columns();
+  }
+
+  // A fresh bed made by parts: the World holds the spheres this rank made,
+  // in the order of their ids, which is the whole system's order before its
+  // first build. The slabs are settled by sphere count as the bed was
+  // split, a sphere another rank owns is passed on, and the lists and the
+  // first forces are built over the ranks as one rank builds them over the
+  // whole at its start (the spheres in cell order, the springs at rest).
+  void start_from_part(View view) {
+    take_settings(view);
+    // The part moves into the local World, not copied: it is the rank's
+    // largest holding at the start.
+    const std::size_t n = view.size();
+    for_each_column([&](auto column, auto&) {
+      using C = typename decltype(column)::type;
+      if (local_.has_component<C>()) std::swap(local_.component<C>().values, view.template write<C>().values);
+    });
+    local_.resize(n);
+    const DomainColumns c = columns_of(local_, images_, rotating_, true);
+    for (std::size_t i = 0; i < n; ++i) c.index[i] = static_cast<double>(c.id[i]);
+    auto& nl = local_.resource<NeighbourList<3>>();
+    nl.wall_shear.assign(rotating_ ? n * walls_ : 0, Shear{});
+    std::vector<double> per_layer(static_cast<std::size_t>(slab_.cells), 0.0);
+    for (std::size_t i = 0; i < n; ++i) per_layer[layer_of(c.x[i])] += 1.0;
+    per_layer = ranks_.add_across(per_layer);
+    if (balance_.every_steps > 0 && SlabDomain::balanced(per_layer, slab_.ranks) != slab_.bounds) {
+      slab_.bounds = SlabDomain::balanced(per_layer, slab_.ranks);
+      spdlog::info("step {}: the slabs now start at layers [{}] of {} (by sphere count)", local_.resource<Clock>().step,
+                   fmt::join(slab_.bounds.begin(), slab_.bounds.end() - 1, ", "), slab_.cells);
+    }
+    below_ = 0;
+    owned_ = n;
+    was_.assign(n, none);
+    arrived_.clear();
+    previous_ = {};
+    std::vector<std::uint32_t> own = migrate();
+    const auto& index = local_.component<WholeIndex>();
+    std::sort(own.begin(), own.end(), [&](std::uint32_t a, std::uint32_t b) { return index[a] < index[b]; });
+    first_layer_ = held_layers().first;
+    add_copies(own);
+    build(view);
+    forces_.run(local_);
+    keep_energy_terms();
+    // The first forces' terms, as one rank's start leaves them: no step to book yet.
+    book_energy_terms(view, ranks_.gather_all(pending_), false);
+    const auto& in = view.template read<DemInteractions<3>>();
+    auto& ledger = view.template write<DemLedger>();
+    ledger.last_wall_power = in.wall_power;
+    ledger.last_dissipation_power = in.dissipation_power;
+    scattered_ = true;
+    host_current_ = false;
+    release_whole(view);
+  }
 
   void scatter(View view) {
     const auto& whole_nl = view.template read<NeighbourList<3>>();
     const std::size_t layers = static_cast<std::size_t>(grid_.cells(2));
     if (!whole_nl.built() || whole_nl.slabs.size() != layers + 1 || !whole_nl.reorder)
       throw std::logic_error("the soft-sphere step over ranks needs the whole system's lists built in cell order");
-    images_ = view.template has<ImageCount<3>>();
-    rotating_ = view.template has<AngularVelocity>();
-    sides_ = view.template has<CompartmentSide>();
-    walls_ = whole_nl.walls;
-    const auto& mass = view.template read<Mass>().values;
-    const auto& radius = view.template read<Radius>().values;
-    const bool uniform_mass = !mass.empty() && std::all_of(mass.begin(), mass.end(), [&](double m) { return m == mass[0]; });
-    const bool same_radius =
-        !radius.empty() && std::all_of(radius.begin(), radius.end(), [&](double r) { return r == radius[0]; });
-    alike_ = {uniform_mass, same_radius};
-    local_.resource<Clock>() = view.template read<Clock>();
-    last_balance_ = local_.resource<Clock>().step;
+    take_settings(view);
     if (balance_.every_steps > 0) {
       std::vector<double> per_layer(layers);
       for (std::size_t s = 0; s < layers; ++s)
@@ -288,16 +381,7 @@ class DemDomainStep : public DemDomainStepBase {
                                   whole_nl.offsets[whole_nl.slabs[s + 1]] - whole_nl.offsets[whole_nl.slabs[s]]);
       move_bounds_if_uneven(per_layer);
     }
-    local_.emplace_resource<Box<3>>(view.template read<Box<3>>());
-    local_.emplace_resource<DemInteractions<3>>(view.template read<DemInteractions<3>>());
-    auto& nl = local_.emplace_resource<NeighbourList<3>>();
-    nl.skin = whole_nl.skin;
-    nl.reorder = true;
-    nl.keeps_history = whole_nl.keeps_history;
-    nl.walls = whole_nl.walls;
-    nl.builds = whole_nl.builds;
-    add_columns();
-
+    auto& nl = local_.resource<NeighbourList<3>>();
     const auto [first, end] = held_layers();
     const std::uint32_t base = whole_nl.slabs[first], count = whole_nl.slabs[end] - base;
     below_ = whole_nl.slabs[slab_.low()] - base;
@@ -316,8 +400,8 @@ class DemDomainStep : public DemDomainStepBase {
       f[k] = view.template read<Force<3>>()[i];
       id[k] = view.template read<ParticleId>()[i];
       index[k] = static_cast<double>(i);
-      local_.component<Mass>()[k] = mass[i];
-      local_.component<Radius>()[k] = radius[i];
+      local_.component<Mass>()[k] = view.template read<Mass>()[i];
+      local_.component<Radius>()[k] = view.template read<Radius>()[i];
       if (images_) local_.component<ImageCount<3>>()[k] = view.template read<ImageCount<3>>()[i];
       if (rotating_) {
         local_.component<AngularVelocity>()[k] = view.template read<AngularVelocity>()[i];
@@ -503,9 +587,9 @@ class DemDomainStep : public DemDomainStepBase {
   }
 
   // Every layer's sums, in layer order, into the whole system's energy
-  // terms (added over the layers as one rank adds its slabs), and that
-  // step's trapezoid into the ledger.
-  void book_energy_terms(View view, const std::vector<double>& all) {
+  // terms (added over the layers as one rank adds its slabs), and, where
+  // `book`, that step's trapezoid into the ledger.
+  void book_energy_terms(View view, const std::vector<double>& all, bool book = true) {
     constexpr std::size_t P = DemContactForces<3>::pair_sums, W = DemContactForces<3>::wall_sums;
     const std::size_t per_layer = energy_width();
     const std::size_t layers = all.size() / per_layer;
@@ -519,7 +603,7 @@ class DemDomainStep : public DemDomainStepBase {
     }
     auto& in = view.template write<DemInteractions<3>>();
     DemContactForces<3>::add_slab_sums(pair_partial, wall_partial, layers, in);
-    view.template write<DemLedger>().book(dt_, in.wall_power, in.dissipation_power);
+    if (book) view.template write<DemLedger>().book(dt_, in.wall_power, in.dissipation_power);
     pending_valid_ = false;
   }
 
@@ -546,21 +630,26 @@ class DemDomainStep : public DemDomainStepBase {
     times_.timed(2, [&] { own = migrate(); });
     first_layer_ = held_layers().first;
     times_.timed(3, [&] { add_copies(own); });
-    times_.timed(4, [&] {
-      std::int64_t before = 0;
-      const std::vector<double> counts = ranks_.gather_all({static_cast<double>(owned_)});
-      for (int r = 0; r < slab_.rank; ++r) before += static_cast<std::int64_t>(counts[static_cast<std::size_t>(r)]);
-      first_own_index_ = static_cast<std::uint64_t>(before);
-      auto& index = local_.component<WholeIndex>();
-      for (std::size_t i = 0; i < local_.size(); ++i)
-        index[i] = static_cast<double>(before) - static_cast<double>(below_) + static_cast<double>(i);
-      build_lists();
-      ++nl.builds;
-      view.template write<NeighbourList<3>>().builds = nl.builds;
-      forces_.as_part_of_whole(first_layer_, alike_[0], alike_[1]);
-      count_edges();
-    });
+    times_.timed(4, [&] { build(view); });
     return true;
+  }
+
+  // The lists over the spheres now held, each numbered by its place in the
+  // whole system's cell order.
+  void build(View view) {
+    std::int64_t before = 0;
+    const std::vector<double> counts = ranks_.gather_all({static_cast<double>(owned_)});
+    for (int r = 0; r < slab_.rank; ++r) before += static_cast<std::int64_t>(counts[static_cast<std::size_t>(r)]);
+    first_own_index_ = static_cast<std::uint64_t>(before);
+    auto& index = local_.component<WholeIndex>();
+    for (std::size_t i = 0; i < local_.size(); ++i)
+      index[i] = static_cast<double>(before) - static_cast<double>(below_) + static_cast<double>(i);
+    build_lists();
+    auto& nl = local_.resource<NeighbourList<3>>();
+    ++nl.builds;
+    view.template write<NeighbourList<3>>().builds = nl.builds;
+    forces_.as_part_of_whole(first_layer_, alike_[0], alike_[1]);
+    count_edges();
   }
 
   // The watchdog's check at a build: every rank learns the first escaped

@@ -84,9 +84,12 @@ void add_domain_step(Run& run, const std::array<bool, 3>& periodic, double dt) {
   if (periodic[2]) refuse("a box periodic along z (the slabs lie along z)");
   World& world = run.world();
   const auto& radii = world.component<Radius>().values;
-  const double largest = radii.empty() ? 0.0 : *std::max_element(radii.begin(), radii.end());
+  double largest = radii.empty() ? 0.0 : *std::max_element(radii.begin(), radii.end());
+  for (const double r : run.communicator()->gather_all({largest})) largest = std::max(largest, r);
+  const std::size_t spheres = world.has_resource<BedByPart>() ? world.resource<BedByPart>().spheres : world.size();
+  const auto& box = world.resource<Box<3>>();
   const CellGrid<3> layers =
-      list_cells(world.resource<Box<3>>(), 2.0 * largest + world.resource<NeighbourList<3>>().skin, world.size());
+      domain_layers(box.length, box.periodic, largest, world.resource<NeighbourList<3>>().skin, spheres);
   run.step<DemDomainStep>(*run.communicator(), dt, layers,
                           DemDomainBalance{c.integer("balance.every_steps"), c.real("balance.threshold")});
   run.mark_distributed();
@@ -104,19 +107,28 @@ double add_dem_step(Run& run, const std::array<double, 3>& box, const std::array
   auto& world = run.world();
   const auto& g = c.reals("gravity.acceleration");
   if (g.size() != 3) throw ConfigError(fmt::format("gravity.acceleration has {} entries; it needs 3", g.size()));
+  // Over ranks a fresh bed is made by parts (bed_by_part.hpp): what the
+  // set-up needs of every sphere comes from every rank's.
+  const Communicator* ranks = run.communicator();
+  const bool by_part = world.has_resource<BedByPart>();
   auto& watch = world.emplace_resource<DemWatch<D>>(wall_reach(box, periodic, walls));
   {
     const auto& x = world.component<Position<D>>();
+    const bool ids = world.has_component<ParticleId>();
     for (std::size_t i = 0; i < world.size(); ++i)
       for (std::size_t a = 0; a < 3; ++a)
         if (!(x[i][a] >= watch.lower[a] && x[i][a] <= watch.upper[a]))
           throw ConfigError(fmt::format(
               "the walls leave sphere {} of the initial state outside them ({} = {:.6g}, the walls reach [{:.6g}, "
               "{:.6g}]); check walls and system.box",
-              i, "xyz"[a], x[i][a], watch.lower[a], watch.upper[a]));
+              ids ? world.component<ParticleId>()[i] : i, "xyz"[a], x[i][a], watch.lower[a], watch.upper[a]));
   }
   const auto& masses = world.component<Mass>().values;
-  const double lightest = masses.empty() ? 1.0 : *std::min_element(masses.begin(), masses.end());
+  double lightest = masses.empty() ? std::numeric_limits<double>::infinity()
+                                   : *std::min_element(masses.begin(), masses.end());
+  if (ranks && ranks->size() > 1)
+    for (const double m : ranks->gather_all({lightest})) lightest = std::min(lightest, m);
+  if (!std::isfinite(lightest)) lightest = 1.0;
   std::vector<ContactCase> cases{{"sphere-sphere", law, 0.5 * lightest, "contact.stiffness", damping_key}};
   for (std::size_t k = 0; k < walls.size(); ++k) {
     const bool known = std::any_of(cases.begin() + 1, cases.end(), [&](const ContactCase& seen) {
@@ -135,7 +147,7 @@ double add_dem_step(Run& run, const std::array<double, 3>& box, const std::array
   if (friction.active() && friction.stiffness_ratio <= 0.0)
     throw ConfigError("contact.tangential_stiffness = 0 with contact.friction > 0: the tangential spring needs a stiffness");
   const TimeStep time_step =
-      choose_time_step(c, cases, contact_demand(world, walls, {g[0], g[1], g[2]}), walls, friction);
+      choose_time_step(c, cases, contact_demand(world, walls, {g[0], g[1], g[2]}, ranks), walls, friction);
   const double dt = time_step.dt, t_c = time_step.collision_time;
   watch.advice = fmt::format("The time step {:.4g} is {:.2g} x {} ({:.4g}) as estimated before the run; contacts "
                              "harder than that estimate need a smaller run.dt (e.g. {:.3g}) or stiffer springs",
@@ -177,9 +189,10 @@ double add_dem_step(Run& run, const std::array<double, 3>& box, const std::array
   // The lists as they were, so a resumed run rebuilds (and reorders) when the
   // uninterrupted one would, and the friction springs carry over.
   run.keep("neighbours", neighbours);
-  if (!run.resuming()) {
+  if (!run.resuming() && !by_part) {
     // A resumed run has its lists, forces and torques from the checkpoint
-    // (evaluating them again would stretch the friction springs twice).
+    // (evaluating them again would stretch the friction springs twice); a
+    // bed made by parts has them from the step's start over the ranks.
     DemNeighbourList<D>().run(world);
     DemContactForces<D>().run(world);
     ledger.last_wall_power = interactions.wall_power;

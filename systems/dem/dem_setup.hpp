@@ -26,10 +26,12 @@
 #include "components/radius.hpp"
 #include "components/torque.hpp"
 #include "components/velocity.hpp"
+#include "engine/core/communicator.hpp"
 #include "engine/core/config.hpp"
 #include "engine/core/input_error.hpp"
 #include "engine/core/units.hpp"
 #include "engine/run/run.hpp"
+#include "systems/dem/bed_by_part.hpp"
 #include "systems/dem/contact_forces.hpp"
 #include "systems/dem/dem_energy.hpp"
 #include "systems/dem/dem_watchdog.hpp"
@@ -186,6 +188,17 @@ inline SphereColumns add_spheres(World& world, std::size_t n, double radius, dou
   return {x, v};
 }
 
+// The spheres `made` of a bed of `total` (bed_by_part.hpp), each with its
+// index as its id; over `ranks` the World says that it holds a part.
+inline SphereColumns add_spheres(World& world, const std::vector<std::size_t>& made, std::size_t total,
+                                 const Communicator* ranks, double radius, double mass) {
+  SphereColumns columns = add_spheres(world, made.size(), radius, mass);
+  auto& id = world.component<ParticleId>().values;
+  for (std::size_t k = 0; k < made.size(); ++k) id[k] = static_cast<std::uint32_t>(made[k]);
+  if (ranks && ranks->size() > 1) world.emplace_resource<BedByPart>().spheres = total;
+  return columns;
+}
+
 // How far the walls reach along each axis (the watchdog's bounds): every
 // closed axis needs a wall on each side, or a sphere could leave the box.
 inline DemWatch<3> wall_reach(const std::array<double, 3>& box, const std::array<bool, 3>& periodic,
@@ -213,32 +226,44 @@ inline DemWatch<3> wall_reach(const std::array<double, 3>& box, const std::array
   return watch;
 }
 
-// What the run can do to its contacts, from its initial state, walls and gravity (stability_limits.hpp).
-inline ContactDemand contact_demand(const World& world, const std::vector<DemWall>& walls, const std::array<double, 3>& g) {
+// What the run can do to its contacts, from its initial state, walls and
+// gravity (stability_limits.hpp); over `ranks` (where each may hold a part
+// of the bed), from every rank's spheres.
+inline ContactDemand contact_demand(const World& world, const std::vector<DemWall>& walls, const std::array<double, 3>& g,
+                                    const Communicator* ranks) {
   const auto& x = world.component<Position<3>>();
   const auto& v = world.component<Velocity<3>>();
   const auto& m = world.component<Mass>();
   const auto& r = world.component<Radius>();
+  const double g_norm = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  // Each the least over the spheres: radius, minus the mass, minus the
+  // speed, the height along gravity and minus it.
+  std::vector<double> least{inf, inf, inf, inf, inf};
+  for (std::size_t i = 0; i < world.size(); ++i) {
+    least[0] = std::min(least[0], r[i]);
+    least[1] = std::min(least[1], -m[i]);
+    least[2] = std::min(least[2], -v[i].norm());
+    if (g_norm > 0.0) {
+      const double h = -(g[0] * x[i][0] + g[1] * x[i][1] + g[2] * x[i][2]) / g_norm;
+      least[3] = std::min(least[3], h);
+      least[4] = std::min(least[4], -h);
+    }
+  }
+  if (ranks && ranks->size() > 1) {
+    const std::vector<double> all = ranks->gather_all(least);
+    for (std::size_t k = 0; k < all.size(); ++k) least[k % least.size()] = std::min(least[k % least.size()], all[k]);
+  }
+  const bool any = least[0] < inf;
   ContactDemand demand;
-  demand.radius = r.values.empty() ? 0.0 : *std::min_element(r.values.begin(), r.values.end());
-  const double heaviest = m.values.empty() ? 0.0 : *std::max_element(m.values.begin(), m.values.end());
-  double fastest = 0.0, wall_speed = 0.0, reach = 0.0;
-  for (const auto& vi : v.values) fastest = std::max(fastest, vi.norm());
+  demand.radius = any ? least[0] : 0.0;
+  const double heaviest = any ? -least[1] : 0.0;
+  double fastest = any ? -least[2] : 0.0, wall_speed = 0.0, reach = 0.0;
   for (const DemWall& w : walls) {
     wall_speed = std::max(wall_speed, std::abs(w.amplitude * w.omega));
     reach = std::max(reach, std::abs(w.amplitude));
   }
-  const double g_norm = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-  double height = 0.0;
-  if (g_norm > 0.0 && !x.values.empty()) {
-    double low = std::numeric_limits<double>::infinity(), high = -low;
-    for (const auto& p : x.values) {
-      const double h = -(g[0] * p[0] + g[1] * p[1] + g[2] * p[2]) / g_norm;
-      low = std::min(low, h);
-      high = std::max(high, h);
-    }
-    height = high - low + 2.0 * reach;
-  }
+  const double height = g_norm > 0.0 && any ? -least[4] - least[3] + 2.0 * reach : 0.0;
   const double speeds[] = {2.0 * fastest, 2.0 * wall_speed, std::sqrt(2.0 * g_norm * height)};
   const char* origins[] = {"the initial velocities", "the walls' motion",
                            "a fall through the bed's height under gravity.acceleration"};

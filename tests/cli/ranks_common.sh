@@ -125,3 +125,20 @@ if gathers != 0: sys.exit(f"FAIL: {path}: the observers gathered the system {gat
 print(f"ok: {path}: {observed} observations, no gather")
 PY
 }
+
+# rank_peaks NP ARGS...: granflow ARGS on NP ranks; prints "rank kB exit-code"
+# per rank, its peak resident memory (each rank writes its own line: no
+# interleaving).
+rank_peaks() {
+  local np=$1
+  shift
+  rm -f "$work"/peak.*
+  "$mpiexec" -np "$np" --oversubscribe --bind-to none /usr/bin/python3 -c "
+import os, resource, subprocess, sys
+code = subprocess.run(sys.argv[2:]).returncode
+rank = os.environ['OMPI_COMM_WORLD_RANK']
+with open(f'{sys.argv[1]}/peak.{rank}', 'w') as out:
+    print(rank, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss, code, file=out)
+" "$work" "$granflow" "$@"
+  cat "$work"/peak.*
+}

@@ -80,18 +80,10 @@ sys.exit(0 if f['parameters/derived'].attrs['ranks'] == 3 else 'FAIL: ranks not 
 # extended by --resume: 0.50 and 0.38 now; 1.30 and 0.81 when every rank
 # read the whole checkpoint and rank 0 gathered it again to write the
 # next. 0.8 leaves room for the allocator.
-peaks() {  # NP ARGS...: "rank kB exit-code" per rank (each rank writes its own line: no interleaving)
+peaks() {  # NP ARGS...
   local np=$1
   shift
-  rm -f "$work"/peak.*
-  "$mpiexec" -np "$np" --oversubscribe --bind-to none /usr/bin/python3 -c "
-import os, resource, subprocess, sys
-code = subprocess.run(sys.argv[2:]).returncode
-rank = os.environ['OMPI_COMM_WORLD_RANK']
-with open(f'{sys.argv[1]}/peak.{rank}', 'w') as out:
-    print(rank, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss, code, file=out)
-" "$work" "$granflow" run "$cooling" --set output.final_checkpoint=true -q --threads 1 -o "$work/memory.h5" "$@"
-  cat "$work"/peak.*
+  rank_peaks "$np" run "$cooling" --set output.final_checkpoint=true -q --threads 1 -o "$work/memory.h5" "$@"
 }
 memory=()
 for np in 1 2; do

@@ -117,6 +117,20 @@ void make_bed(World& world, double kick_down = 0.0) {
   DemContactForces<3>().run(world);
 }
 
+// The one-rank chain the step must reproduce.
+struct OneRankChain {
+  DemKickDrift<3> drift{dt};
+  DemNeighbourList<3> lists;
+  DemContactForces<3> forces;
+  DemKick<3> kick{dt};
+  void step(World& world) {
+    drift.run(world);
+    lists.run(world);
+    forces.run(world);
+    kick.run(world);
+  }
+};
+
 DemDomainStep lone_step(const LoneRank& lone, const World& world) {
   return DemDomainStep(lone, dt, list_cells(world.resource<Box<3>>(), 1.0 + 0.2, world.size()), DemDomainBalance{});
 }
@@ -125,18 +139,12 @@ TEST(DemDomainStep, OnALoneRankItIsTheOneRankChainBitForBit) {
   World chain, ranked;
   make_bed(chain);
   make_bed(ranked);
-  DemKickDrift<3> drift(dt);
-  DemNeighbourList<3> lists;
-  DemContactForces<3> forces;
-  DemKick<3> kick(dt);
+  OneRankChain one_rank;
   DemEnergyAccount<3> account(dt);
   const LoneRank lone;
   DemDomainStep step = lone_step(lone, ranked);
   for (int s = 0; s < 3000; ++s) {
-    drift.run(chain);
-    lists.run(chain);
-    forces.run(chain);
-    kick.run(chain);
+    one_rank.step(chain);
     account.run(chain);
     step.run(ranked);
   }
@@ -176,10 +184,7 @@ TEST(DemDomainStep, ObserversOfTheLentPartSeeTheOneRankChainsValues) {
                              "energy_dissipated", "contact_count", "coordination_number"})
       store.declare(name);
   }
-  DemKickDrift<3> drift(dt);
-  DemNeighbourList<3> lists;
-  DemContactForces<3> forces;
-  DemKick<3> kick(dt);
+  OneRankChain one_rank;
   const LoneRank lone;
   DemDomainStep step = lone_step(lone, ranked);
   const auto chain_counts = std::make_shared<CompartmentCounts>(), ranked_counts = std::make_shared<CompartmentCounts>();
@@ -191,10 +196,7 @@ TEST(DemDomainStep, ObserversOfTheLentPartSeeTheOneRankChainsValues) {
     return world.resource<ObservableStore>();
   };
   for (int s = 0; s < 1500; ++s) {
-    drift.run(chain);
-    lists.run(chain);
-    forces.run(chain);
-    kick.run(chain);
+    one_rank.step(chain);
     step.run(ranked);
     ObservableStore alone = observe(chain, chain_sampler);
     ASSERT_TRUE(step.lend_part(ranked)) << "step " << s;
@@ -215,17 +217,11 @@ TEST(DemDomainStep, ASphereThroughTheFloorStopsTheRunAsOnOneRank) {
   World chain, ranked;
   make_bed(chain, 2000.0);
   make_bed(ranked, 2000.0);
-  DemKickDrift<3> drift(dt);
-  DemNeighbourList<3> lists;
-  DemContactForces<3> forces;
-  DemKick<3> kick(dt);
+  OneRankChain one_rank;
   const LoneRank lone;
   DemDomainStep step = lone_step(lone, ranked);
   for (int s = 0; s < 20 && !chain.resource<RunControl>().stop; ++s) {
-    drift.run(chain);
-    lists.run(chain);
-    forces.run(chain);
-    kick.run(chain);
+    one_rank.step(chain);
     step.run(ranked);
   }
   const auto& failed = ranked.resource<RunControl>();
