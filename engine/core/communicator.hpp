@@ -108,6 +108,15 @@ class Communicator {
       for (std::size_t k = 0; k < mine.size(); ++k) total[k] += all[r + k];
     return total;
   }
+  // The element-wise least of every rank's `mine` (all of one length), on
+  // every rank (a largest is the least of the negated values).
+  std::vector<double> least_across(const std::vector<double>& mine) const {
+    std::vector<double> least = mine;
+    const std::vector<double> all = gather_all(mine);
+    for (std::size_t k = 0; k < all.size() && !mine.empty(); ++k)
+      least[k % mine.size()] = std::min(least[k % mine.size()], all[k]);
+    return least;
+  }
 
   // The signal flag of this process and the one every rank agrees on: a
   // distributed step agrees on it once per step (sum_agreeing_on_interrupt),

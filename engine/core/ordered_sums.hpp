@@ -20,12 +20,12 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <utility>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace granflow {
@@ -36,21 +36,13 @@ inline constexpr std::size_t no_bin = std::numeric_limits<std::size_t>::max();
 namespace ordered_sums_detail {
 
 // One chunk's sums: the bins it touched (each bin's total is apart, so
-// their order does not matter) and their sums.
+// their order does not matter) and their sums, each from its first term on.
 struct ChunkSums {
   std::vector<std::size_t> bins;
   std::vector<double> sums;  // width per bin
-};
+  std::unordered_map<std::size_t, std::size_t> at;  // a bin's place in `bins`
 
-// The chunk of the terms [from, to) of `term` (indices of the caller's own).
-template <class Term>
-ChunkSums chunk_sums(std::size_t from, std::size_t to, std::size_t width, Term& term, std::vector<double>& values) {
-  std::unordered_map<std::size_t, std::size_t> at;
-  std::vector<std::size_t> bins;
-  std::vector<double> sums;
-  for (std::size_t i = from; i < to; ++i) {
-    const std::size_t bin = term(i, values.data());
-    if (bin == no_bin) continue;
+  void add(std::size_t bin, const double* values, std::size_t width) {
     const auto [it, added] = at.try_emplace(bin, bins.size());
     if (added) {
       bins.push_back(bin);
@@ -59,7 +51,15 @@ ChunkSums chunk_sums(std::size_t from, std::size_t to, std::size_t width, Term& 
     double* s = sums.data() + it->second * width;
     for (std::size_t k = 0; k < width; ++k) s[k] += values[k];
   }
-  return {std::move(bins), std::move(sums)};
+};
+
+// The chunk of the terms [from, to) of `term` (indices of the caller's own).
+template <class Term>
+ChunkSums chunk_sums(std::size_t from, std::size_t to, std::size_t width, Term& term, std::vector<double>& values) {
+  ChunkSums chunk;
+  for (std::size_t i = from; i < to; ++i)
+    if (const std::size_t bin = term(i, values.data()); bin != no_bin) chunk.add(bin, values.data(), width);
+  return chunk;
 }
 
 inline void add_chunk(const ChunkSums& chunk, std::size_t width, std::vector<double>& total) {
@@ -150,13 +150,11 @@ inline std::vector<double> sums_from_messages(const std::vector<double>& all, st
   // The chunk being summed from terms, as one process sums it.
   std::size_t open = no_bin;
   ChunkSums open_sums;
-  std::unordered_map<std::size_t, std::size_t> open_at;
   const auto close = [&] {
     if (open == no_bin) return;
     add_chunk(open_sums, width, total);
     open = no_bin;
     open_sums = {};
-    open_at.clear();
   };
   std::size_t at = 0;
   const auto need = [&](std::size_t values) {
@@ -183,12 +181,7 @@ inline std::vector<double> sums_from_messages(const std::vector<double>& all, st
         if (bin_value >= 0.0) {
           const auto bin = static_cast<std::size_t>(bin_value);
           check_bin(bin, bins);
-          const auto [it, added] = open_at.try_emplace(bin, open_sums.bins.size());
-          if (added) {
-            open_sums.bins.push_back(bin);
-            open_sums.sums.resize(open_sums.sums.size() + width, 0.0);
-          }
-          for (std::size_t k = 0; k < width; ++k) open_sums.sums[it->second * width + k] += all[at + k];
+          open_sums.add(bin, all.data() + at, width);
         }
         at += width;
       }

@@ -200,21 +200,14 @@ void Run::synchronise_host() {
 StateMap Run::save(RankRows* rows) {
   StateMap out;
   if (rows) *rows = {};
-  System* lending = nullptr;
-  if (rows && communicator_ && communicator_->size() > 1)
-    for (const auto& system : steps_.systems())
-      if (system->checkpoints_by_rank() && system->lend_part(world_)) {
-        lending = system.get();
-        break;
-      }
+  System* const lending = rows && communicator_ && communicator_->size() > 1 ? lend_part(true) : nullptr;
   if (lending) {
     rows->count = world_.size();
     for (auto& [key, values] : world_.save_columns()) {
       const std::string name = "world/" + key;
       (holds_particle_rows(name) ? rows->arrays : out)[name] = std::move(values);
     }
-    world_.emplace_resource<ObservedPart>();
-    lending->take_back_part(world_);
+    take_back_part(*lending);
     out["world.size"] = {static_cast<double>(communicator_->sum(static_cast<std::int64_t>(rows->count)))};
   } else {
     synchronise_host();
@@ -271,21 +264,22 @@ bool Run::observe_by_rank(bool reads_particles) {
   const auto& observers = observers_.systems();
   for (std::size_t k = 0; k + 1 < observers.size(); ++k)
     if (enabled_[k] && !observers[k]->observes_by_rank()) return false;
-  System* lending = nullptr;
-  if (reads_particles) {
-    for (const auto& system : steps_.systems())
-      if (system->lend_part(world_)) {
-        lending = system.get();
-        break;
-      }
-    if (!lending) return false;
-  }
+  System* const lending = reads_particles ? lend_part(false) : nullptr;
+  if (reads_particles && !lending) return false;
   observers_.run_in_order(world_, enabled_);
-  if (lending) {
-    world_.emplace_resource<ObservedPart>();
-    lending->take_back_part(world_);
-  }
+  if (lending) take_back_part(*lending);
   return true;
+}
+
+System* Run::lend_part(bool for_checkpoint) {
+  for (const auto& system : steps_.systems())
+    if ((!for_checkpoint || system->checkpoints_by_rank()) && system->lend_part(world_)) return system.get();
+  return nullptr;
+}
+
+void Run::take_back_part(System& lending) {
+  world_.emplace_resource<ObservedPart>();
+  lending.take_back_part(world_);
 }
 
 namespace {
@@ -459,14 +453,11 @@ double Run::progress_fraction() const {
 // gather of the whole. Collective.
 bool Run::write_particle_constants_by_rank() {
   if (!world_.has_component<Mass>() || !world_.has_component<ParticleId>()) return false;
-  for (const auto& system : steps_.systems()) {
-    if (!system->lend_part(world_)) continue;
-    granflow::write_particle_constants_by_rank(file_, ParticleConstantsView(world_), world_.resource<ObservedPart>());
-    world_.emplace_resource<ObservedPart>();
-    system->take_back_part(world_);
-    return true;
-  }
-  return false;
+  System* const lending = lend_part(false);
+  if (!lending) return false;
+  granflow::write_particle_constants_by_rank(file_, ParticleConstantsView(world_), world_.resource<ObservedPart>());
+  take_back_part(*lending);
+  return true;
 }
 
 void Run::write_results(const RunOutcome& outcome) {

@@ -196,6 +196,11 @@ class Run {
   void share_observers_outcome();
   bool observe_by_rank(bool reads_particles);
   bool write_particle_constants_by_rank();
+  // The step system that lent this rank's particles to the World (null
+  // where none can now); `for_checkpoint`: only one whose checkpoints are
+  // written by rank. Collective.
+  System* lend_part(bool for_checkpoint);
+  void take_back_part(System& lending);
   // The first stop criterion met, decided by rank 0 over ranks.
   std::optional<std::string> stop_criterion_met();
 

@@ -42,12 +42,15 @@ inline CellGrid<3> domain_layers(const std::array<double, 3>& edges, const std::
   return list_cells(box, 2.0 * largest_radius + skin, spheres);
 }
 
+// What sets the layers, for a refusal of more ranks than layers.
+inline constexpr const char* domain_layers_from =
+    "the neighbour-list cells, each at least 2 particle.radius + neighbour.skin high, of system.box";
+
 // The slab each rank starts with: the layers split so that each holds
 // about as many of `sites` (where balance.every_steps > 0; else equal slabs).
 inline SlabDomain starting_slabs(const Communicator& ranks, const CellGrid<3>& layers, const std::vector<Vec<3>>& sites,
                                  bool balanced) {
-  SlabDomain slab(ranks.rank(), ranks.size(), layers.cells(2), "z",
-                  "the neighbour-list cells, each at least 2 particle.radius + neighbour.skin high, of system.box");
+  SlabDomain slab(ranks.rank(), ranks.size(), layers.cells(2), "z", domain_layers_from);
   if (!balanced) return slab;
   std::vector<double> per_layer(static_cast<std::size_t>(layers.cells(2)), 0.0);
   for (const Vec<3>& x : sites) per_layer[layers.cell_of(x) / layers.stride(2)] += 1.0;

@@ -130,8 +130,7 @@ class DemDomainStep : public DemDomainStepBase {
       : ranks_(ranks),
         dt_(dt),
         grid_(layers),
-        slab_(ranks.rank(), ranks.size(), layers.cells(2), "z",
-              "the neighbour-list cells, each at least 2 particle.radius + neighbour.skin high, of system.box"),
+        slab_(ranks.rank(), ranks.size(), layers.cells(2), "z", domain_layers_from),
         balance_(balance),
         kick_drift_(dt),
         kick_(dt) {
@@ -186,11 +185,7 @@ class DemDomainStep : public DemDomainStepBase {
   void synchronise_host(World& whole) override {
     // A World that holds this rank's part of a fresh bed is no whole yet.
     if (!scattered_ && View(whole).has<BedByPart>()) start(View(whole));
-    if (pending_valid_) {
-      std::vector<double> all;
-      times_.timed(10, [&] { all = ranks_.gather_all(pending_); });
-      book_energy_terms(View(whole), all);
-    }
+    book_pending_energy_terms(View(whole));
     if (host_current_ || !scattered_) return;
     times_.timed(9, [&] { gather_whole(ranks_, local_, below_, owned_, grid_, whole); });
     host_current_ = true;
@@ -208,11 +203,7 @@ class DemDomainStep : public DemDomainStepBase {
       lendable += world.has_component<typename decltype(column)::type>() ? 1 : 0;
     });
     if (lendable != world.column_count()) return false;
-    if (pending_valid_) {
-      std::vector<double> all;
-      times_.timed(10, [&] { all = ranks_.gather_all(pending_); });
-      book_energy_terms(View(world), all);
-    }
+    book_pending_energy_terms(View(world));
     lent_from_size_ = world.size();
     for_each_column([&](auto column, auto& stash) {
       using C = typename decltype(column)::type;
@@ -300,8 +291,7 @@ class DemDomainStep : public DemDomainStepBase {
       extremes[2] = std::min(extremes[2], r);
       extremes[3] = std::min(extremes[3], -r);
     }
-    const std::vector<double> all = ranks_.gather_all(extremes);
-    for (std::size_t k = 0; k < all.size(); ++k) extremes[k % 4] = std::min(extremes[k % 4], all[k]);
+    extremes = ranks_.least_across(extremes);
     alike_ = {extremes[0] == -extremes[1], extremes[2] == -extremes[3]};
     local_.resource<Clock>() = view.template read<Clock>();
     last_balance_ = local_.resource<Clock>().step;
@@ -339,8 +329,9 @@ class DemDomainStep : public DemDomainStepBase {
     std::vector<double> per_layer(static_cast<std::size_t>(slab_.cells), 0.0);
     for (std::size_t i = 0; i < n; ++i) per_layer[layer_of(c.x[i])] += 1.0;
     per_layer = ranks_.add_across(per_layer);
-    if (balance_.every_steps > 0 && SlabDomain::balanced(per_layer, slab_.ranks) != slab_.bounds) {
-      slab_.bounds = SlabDomain::balanced(per_layer, slab_.ranks);
+    if (const auto bounds = SlabDomain::balanced(per_layer, slab_.ranks);
+        balance_.every_steps > 0 && bounds != slab_.bounds) {
+      slab_.bounds = bounds;
       spdlog::info("step {}: the slabs now start at layers [{}] of {} (by sphere count)", local_.resource<Clock>().step,
                    fmt::join(slab_.bounds.begin(), slab_.bounds.end() - 1, ", "), slab_.cells);
     }
@@ -393,6 +384,8 @@ class DemDomainStep : public DemDomainStepBase {
     auto& f = local_.component<Force<3>>();
     auto& id = local_.component<ParticleId>();
     auto& index = local_.component<WholeIndex>();
+    const auto& mass = view.template read<Mass>();
+    const auto& radius = view.template read<Radius>();
     for (std::uint32_t k = 0; k < count; ++k) {
       const std::uint32_t i = base + k;
       x[k] = view.template read<Position<3>>()[i];
@@ -400,8 +393,8 @@ class DemDomainStep : public DemDomainStepBase {
       f[k] = view.template read<Force<3>>()[i];
       id[k] = view.template read<ParticleId>()[i];
       index[k] = static_cast<double>(i);
-      local_.component<Mass>()[k] = view.template read<Mass>()[i];
-      local_.component<Radius>()[k] = view.template read<Radius>()[i];
+      local_.component<Mass>()[k] = mass[i];
+      local_.component<Radius>()[k] = radius[i];
       if (images_) local_.component<ImageCount<3>>()[k] = view.template read<ImageCount<3>>()[i];
       if (rotating_) {
         local_.component<AngularVelocity>()[k] = view.template read<AngularVelocity>()[i];
@@ -584,6 +577,15 @@ class DemDomainStep : public DemDomainStepBase {
                         walls[w].begin() + static_cast<std::ptrdiff_t>(W * (s + 1)));
     }
     pending_valid_ = true;
+  }
+
+  // The last force pass's terms, kept for the next step's gather, booked
+  // now for a round that reads them (a gather of the whole, observers by rank).
+  void book_pending_energy_terms(View view) {
+    if (!pending_valid_) return;
+    std::vector<double> all;
+    times_.timed(10, [&] { all = ranks_.gather_all(pending_); });
+    book_energy_terms(view, all);
   }
 
   // Every layer's sums, in layer order, into the whole system's energy

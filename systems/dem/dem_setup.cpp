@@ -84,8 +84,8 @@ void add_domain_step(Run& run, const std::array<bool, 3>& periodic, double dt) {
   if (periodic[2]) refuse("a box periodic along z (the slabs lie along z)");
   World& world = run.world();
   const auto& radii = world.component<Radius>().values;
-  double largest = radii.empty() ? 0.0 : *std::max_element(radii.begin(), radii.end());
-  for (const double r : run.communicator()->gather_all({largest})) largest = std::max(largest, r);
+  const double largest =
+      -run.communicator()->least_across({radii.empty() ? 0.0 : -*std::max_element(radii.begin(), radii.end())}).front();
   const std::size_t spheres = world.has_resource<BedByPart>() ? world.resource<BedByPart>().spheres : world.size();
   const auto& box = world.resource<Box<3>>();
   const CellGrid<3> layers =
@@ -126,8 +126,7 @@ double add_dem_step(Run& run, const std::array<double, 3>& box, const std::array
   const auto& masses = world.component<Mass>().values;
   double lightest = masses.empty() ? std::numeric_limits<double>::infinity()
                                    : *std::min_element(masses.begin(), masses.end());
-  if (ranks && ranks->size() > 1)
-    for (const double m : ranks->gather_all({lightest})) lightest = std::min(lightest, m);
+  if (ranks && ranks->size() > 1) lightest = ranks->least_across({lightest}).front();
   if (!std::isfinite(lightest)) lightest = 1.0;
   std::vector<ContactCase> cases{{"sphere-sphere", law, 0.5 * lightest, "contact.stiffness", damping_key}};
   for (std::size_t k = 0; k < walls.size(); ++k) {

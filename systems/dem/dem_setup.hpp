@@ -250,15 +250,13 @@ inline ContactDemand contact_demand(const World& world, const std::vector<DemWal
       least[4] = std::min(least[4], -h);
     }
   }
-  if (ranks && ranks->size() > 1) {
-    const std::vector<double> all = ranks->gather_all(least);
-    for (std::size_t k = 0; k < all.size(); ++k) least[k % least.size()] = std::min(least[k % least.size()], all[k]);
-  }
+  if (ranks && ranks->size() > 1) least = ranks->least_across(least);
   const bool any = least[0] < inf;
   ContactDemand demand;
   demand.radius = any ? least[0] : 0.0;
   const double heaviest = any ? -least[1] : 0.0;
-  double fastest = any ? -least[2] : 0.0, wall_speed = 0.0, reach = 0.0;
+  const double fastest = any ? -least[2] : 0.0;
+  double wall_speed = 0.0, reach = 0.0;
   for (const DemWall& w : walls) {
     wall_speed = std::max(wall_speed, std::abs(w.amplitude * w.omega));
     reach = std::max(reach, std::abs(w.amplitude));
