@@ -4,6 +4,7 @@
 // counters) is exact in a double, so one array type serves all, and a
 // checkpoint file is a list of such arrays.
 
+#include <cstddef>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -20,6 +21,11 @@ class Stateful {
   virtual ~Stateful() = default;
   virtual StateMap save_state() const = 0;
   virtual void restore_state(const StateMap& state) = 0;
+  // Arrays of save_state() that hold one row per item of this rank's part
+  // (its particles, their pairs) where it holds a part of a system spread
+  // over ranks: name -> its row count. A checkpoint written by rank puts
+  // the ranks' rows one after another, as it does the particles'.
+  virtual std::map<std::string, std::size_t> state_rows() const { return {}; }
 };
 
 // The entries of `state` under "prefix/", with the prefix removed.

@@ -52,10 +52,11 @@ class System {
   // returns them to the step afterwards. Collective.
   virtual bool lend_part(World&) { return false; }
   virtual void take_back_part(World&) {}
-  // Whether a checkpoint may be written from the lent parts, each rank its
-  // rows (write_checkpoint_by_rank); else it is written from the whole,
-  // gathered onto rank 0.
-  virtual bool checkpoints_by_rank() const { return true; }
+  // For a checkpoint written by rank (write_checkpoint_by_rank), after
+  // lend_part: what else of this rank's part the checkpoint carries (the
+  // step's lists), lent to the World's kept objects, which give it as rows
+  // (Stateful::state_rows); take_back_part takes it back.
+  virtual void lend_checkpoint_state(World&) {}
 };
 
 }  // namespace granflow

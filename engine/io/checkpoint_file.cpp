@@ -102,12 +102,13 @@ void write_checkpoint(const std::string& path, const std::string& scenario, cons
 void write_checkpoint_by_rank(const std::string& path, const std::string& scenario, const Config& config,
                               const StateMap& state, const RankRows& rows, const Communicator& ranks) {
   const bool first = ranks.rank() == 0;
-  const std::vector<double> counts = ranks.gather_all({static_cast<double>(rows.count)});
-  std::size_t offset = 0, total = 0;
-  for (std::size_t r = 0; r < counts.size(); ++r) {
-    if (static_cast<int>(r) < ranks.rank()) offset += static_cast<std::size_t>(counts[r]);
-    total += static_cast<std::size_t>(counts[r]);
-  }
+  // Every array's rows on every rank, in one exchange: [rank][array].
+  std::vector<double> mine_counts;
+  for (const auto& entry : rows.arrays) mine_counts.push_back(static_cast<double>(rows.rows_of(entry.first)));
+  const std::vector<double> counts = ranks.gather_all(mine_counts);
+  const std::size_t arrays = rows.arrays.size();
+  if (counts.size() != arrays * static_cast<std::size_t>(ranks.size()))
+    throw std::logic_error("checkpoint by rank: the ranks hold different row arrays");
   std::optional<CheckpointWriter> writer;
   if (first) writer.emplace(path, scenario, config);
   // Rank 0 lists the whole state's arrays and the row arrays in one name
@@ -122,17 +123,26 @@ void write_checkpoint_by_rank(const std::string& path, const std::string& scenar
       writer->array(whole->first, whole->second);
     }
   };
+  std::size_t array = 0;
   for (const auto& [name, mine] : rows.arrays) {
     write_whole_before(&name);
+    std::size_t offset = 0, total = 0;
+    for (std::size_t r = 0; r < static_cast<std::size_t>(ranks.size()); ++r) {
+      const auto held = static_cast<std::size_t>(counts[r * arrays + array]);
+      if (static_cast<int>(r) < ranks.rank()) offset += held;
+      total += held;
+    }
+    const std::size_t count = rows.rows_of(name);
+    ++array;
     const auto values = static_cast<std::size_t>(ranks.sum(static_cast<std::int64_t>(mine.size())));
     const std::size_t width = total > 0 ? values / total : 0;
-    if (width * total != values || (rows.count > 0 && mine.size() != width * rows.count))
+    if (width * total != values || (count > 0 && mine.size() != width * count))
       throw std::logic_error(fmt::format("checkpoint array '{}': {} values over {} rows", name, values, total));
     if (first) writer->begin_array(name, values);
     for (std::size_t block_first = 0; block_first < total; block_first += rows_per_block) {
       const std::size_t block_end = std::min(total, block_first + rows_per_block);
-      const std::size_t from = std::clamp(block_first, offset, offset + rows.count);
-      const std::size_t to = std::clamp(block_end, offset, offset + rows.count);
+      const std::size_t from = std::clamp(block_first, offset, offset + count);
+      const std::size_t to = std::clamp(block_end, offset, offset + count);
       const auto begin = mine.begin() + static_cast<std::ptrdiff_t>((from - offset) * width);
       const std::vector<double> block =
           ranks.gather_to_first(std::vector<double>(begin, begin + static_cast<std::ptrdiff_t>((to - from) * width)));

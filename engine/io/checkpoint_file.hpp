@@ -29,11 +29,18 @@ void write_checkpoint(const std::string& path, const std::string& scenario, cons
 // columns, "world/<key>" (not their ".width").
 bool holds_particle_rows(const std::string& name);
 
-// This rank's rows of the particle arrays: `count` rows of each. In the
-// file the ranks' rows follow one another in rank order.
+// This rank's rows of the particle arrays: `count` rows of each, or as many
+// as `counts` gives for an array whose rows are not the particles (a kept
+// object's per-pair lists). In the file the ranks' rows follow one another
+// in rank order.
 struct RankRows {
   std::size_t count = 0;
   StateMap arrays;
+  std::map<std::string, std::size_t> counts;
+  std::size_t rows_of(const std::string& name) const {
+    const auto found = counts.find(name);
+    return found == counts.end() ? count : found->second;
+  }
 };
 
 // The same file as write_checkpoint of `state` with every rank's `rows`

@@ -207,6 +207,21 @@ StateMap Run::save(RankRows* rows) {
       const std::string name = "world/" + key;
       (holds_particle_rows(name) ? rows->arrays : out)[name] = std::move(values);
     }
+    // A kept object that holds this rank's part (the step's lists) gives
+    // its rows while the part is lent.
+    for (const auto& [object_name, object] : kept_) {
+      const auto counts = object->state_rows();
+      for (auto& [key, values] : object->save_state()) {
+        const std::string name = "kept/" + object_name + "/" + key;
+        const auto rows_of = counts.find(key);
+        if (rows_of == counts.end()) {
+          out[name] = std::move(values);
+          continue;
+        }
+        rows->arrays[name] = std::move(values);
+        rows->counts[name] = rows_of->second;
+      }
+    }
     take_back_part(*lending);
     out["world.size"] = {static_cast<double>(communicator_->sum(static_cast<std::int64_t>(rows->count)))};
   } else {
@@ -218,7 +233,8 @@ StateMap Run::save(RankRows* rows) {
   out["clock"] = {clock.time, static_cast<double>(clock.step)};
   out["round"] = {round_time_, static_cast<double>(round_step_)};
   for (const auto& [name, value] : derived_) out["derived/" + name] = {value};
-  for (const auto& [name, object] : kept_) put_state_under(out, "kept/" + name, object->save_state());
+  if (!lending)
+    for (const auto& [name, object] : kept_) put_state_under(out, "kept/" + name, object->save_state());
   const Written* end = at_end_fired_ && before_end_ ? &*before_end_ : nullptr;
   put_state_under(out, "history", end ? recorder_->save_history(end->series) : recorder_->save_history());
   if (file_) put_state_under(out, "frames", file_->frames_state(end ? &end->frames : nullptr));
@@ -273,7 +289,10 @@ bool Run::observe_by_rank(bool reads_particles) {
 
 System* Run::lend_part(bool for_checkpoint) {
   for (const auto& system : steps_.systems())
-    if ((!for_checkpoint || system->checkpoints_by_rank()) && system->lend_part(world_)) return system.get();
+    if (system->lend_part(world_)) {
+      if (for_checkpoint) system->lend_checkpoint_state(world_);
+      return system.get();
+    }
   return nullptr;
 }
 
@@ -410,11 +429,6 @@ RunOutcome Run::execute(const std::atomic<bool>* interrupt, const std::function<
       stop.round_time = round_time_;
       stop.round_step = round_step_;
       stop.before = written();
-      // A step whose checkpoint is written from the whole keeps its state
-      // (the lists) there: the whole as of the stop, which the final
-      // checkpoint then reads without gathering it again.
-      for (const auto& system : steps_.systems())
-        if (!system->checkpoints_by_rank()) system->synchronise_host(world_);
       for (const auto& [name, object] : kept_) stop.kept_before.emplace_back(name, object->save_state());
       fire(control.stop, target_time, target_step, Firing::set_by_stop);
     } else {

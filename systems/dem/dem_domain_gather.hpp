@@ -188,5 +188,43 @@ inline void gather_whole(const Communicator& ranks, World& local, std::size_t fr
   whole_nl.derive();
 }
 
+// The lists of this rank's own spheres [from, from + count) of its `local`
+// World, in the whole system's numbering, into `part` (a checkpoint's rows
+// by rank, NeighbourList::part_of_whole): the spheres' whole indices, their
+// partners' and springs, their reference positions, and the whole system's
+// slabs of `grid`'s layers, counted over the ranks. Collective.
+inline void lend_lists_of_part(const Communicator& ranks, World& local, std::size_t from, std::size_t count,
+                               const CellGrid<3>& grid, NeighbourList<3>& part) {
+  const auto& nl = local.resource<NeighbourList<3>>();
+  const auto& index = local.component<WholeIndex>();
+  const std::size_t walls = nl.walls;
+  part.release();
+  part.part_of_whole = true;
+  part.builds = nl.builds;
+  part.order.resize(count);
+  part.offsets.assign(count + 1, 0);
+  part.reference.assign(nl.reference.begin() + static_cast<std::ptrdiff_t>(from),
+                        nl.reference.begin() + static_cast<std::ptrdiff_t>(from + count));
+  if (nl.keeps_history)
+    part.wall_shear.assign(nl.wall_shear.begin() + static_cast<std::ptrdiff_t>(from * walls),
+                           nl.wall_shear.begin() + static_cast<std::ptrdiff_t>((from + count) * walls));
+  std::vector<double> per_layer(static_cast<std::size_t>(grid.cells(2)), 0.0);
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::size_t i = from + k;
+    part.order[k] = static_cast<std::uint32_t>(index[i]);
+    const auto [begin, end] = nl.pairs_of(i);
+    for (std::uint32_t p = begin; p < end; ++p) {
+      part.list.push_back(static_cast<std::uint32_t>(index[nl.list[p]]));
+      if (nl.keeps_history) part.shear.push_back(nl.shear[p]);
+    }
+    part.offsets[k + 1] = static_cast<std::uint32_t>(part.list.size());
+    per_layer[grid.cell_of(nl.reference[i]) / grid.stride(2)] += 1.0;
+  }
+  per_layer = ranks.add_across(per_layer);
+  part.slabs.assign(per_layer.size() + 1, 0);
+  for (std::size_t s = 0; s < per_layer.size(); ++s)
+    part.slabs[s + 1] = part.slabs[s] + static_cast<std::uint32_t>(per_layer[s]);
+  part.periodic_slabs = false;
+}
 
 }  // namespace granflow::dem

@@ -44,10 +44,12 @@
 // their sums over the ranks in the whole's own grouping (ObservedPart::sums),
 // so that they too are one rank's bit for bit. A sphere's side of a divider
 // (CompartmentSide) travels with it. No rank then holds the whole system.
-// Checkpoints, and an observer that cannot run by rank, read the whole on
-// rank 0: synchronise_host gathers every rank's spheres into it, in rank
-// order, which is the whole system's order, with the neighbour lists, so
-// that a checkpoint is that of one rank and resumes on any number of ranks;
+// A checkpoint is written from the same lent parts, each rank's rows in
+// rank order (write_checkpoint_by_rank), with each rank's own spheres'
+// lists in the whole system's numbering (lend_checkpoint_state): the file
+// is that of one rank and resumes on any number of ranks. An observer that
+// cannot run by rank reads the whole on rank 0: synchronise_host gathers
+// every rank's spheres into it, in rank order, with the neighbour lists;
 // rank 0 observes alone and shares its decisions (Run::run_observers), and
 // lets the whole go at the next step.
 
@@ -218,10 +220,13 @@ class DemDomainStep : public DemDomainStepBase {
     world.emplace_resource<ObservedPart>(ranks_, 2, slab_.low(), slab_.high(), first_own_index_);
     return true;
   }
-  // A checkpoint carries the neighbour lists in the whole system's order,
-  // which the ranks' rows would not keep: it is written from the whole.
-  bool checkpoints_by_rank() const override { return false; }
+  // A checkpoint carries the lists as one rank's, in the whole system's
+  // order: each rank gives its own spheres', as rows that follow one another.
+  void lend_checkpoint_state(World& world) override {
+    lend_lists_of_part(ranks_, local_, below_, owned_, grid_, world.resource<NeighbourList<3>>());
+  }
   void take_back_part(World& world) override {
+    if (auto& lists = world.resource<NeighbourList<3>>(); lists.part_of_whole) lists.release();
     // What an observer keeps per sphere goes back with it.
     if (sides_ && world.has_component<CompartmentSide>()) {
       const auto& kept = world.component<CompartmentSide>().values;

@@ -25,7 +25,9 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "components/box.hpp"
@@ -80,6 +82,12 @@ struct NeighbourList : Stateful {
   std::int64_t displacement_step = -1;
   std::size_t walls = 0;
   std::uint64_t builds = 0;
+  // Set where the lists are one rank's part of a system spread over ranks,
+  // lent for a checkpoint written by rank (dem_domain_step.hpp): the rank's
+  // own spheres in the whole system's numbering (order: their whole
+  // indices; list: their partners'), and the whole system's slabs. A
+  // checkpoint's rows, not lists to step with.
+  bool part_of_whole = false;
 
   bool built() const { return !offsets.empty(); }
   // No lists, and their memory given back (the settings and the build count stay).
@@ -89,14 +97,19 @@ struct NeighbourList : Stateful {
     std::vector<Shear>().swap(shear);
     std::vector<Shear>().swap(wall_shear);
     domains = {};
+    part_of_whole = false;
   }
   // Sphere i's pairs.
   std::pair<std::uint32_t, std::uint32_t> pairs_of(std::size_t i) const { return {offsets[rank[i]], offsets[rank[i] + 1]}; }
 
+  // Per sphere in cell order its pair count rather than the offsets, so
+  // that the ranks' rows of a part_of_whole follow one another.
   StateMap save_state() const override {
     StateMap s;
     s["order"].assign(order.begin(), order.end());
-    s["offsets"].assign(offsets.begin(), offsets.end());
+    auto& counts = s["pair_counts"];
+    counts.resize(order.size());
+    for (std::size_t m = 0; m < order.size(); ++m) counts[m] = offsets[m + 1] - offsets[m];
     s["list"].assign(list.begin(), list.end());
     s["slabs"].assign(slabs.begin(), slabs.end());
     s["periodic_slabs"] = {periodic_slabs ? 1.0 : 0.0};
@@ -109,6 +122,12 @@ struct NeighbourList : Stateful {
     s["builds"] = {static_cast<double>(builds)};
     return s;
   }
+  std::map<std::string, std::size_t> state_rows() const override {
+    if (!part_of_whole) return {};
+    const std::size_t spheres = order.size(), pairs = list.size();
+    return {{"order", spheres}, {"pair_counts", spheres}, {"reference", spheres}, {"wall_shear", spheres},
+            {"list", pairs},    {"shear", pairs}};
+  }
   void restore_state(const StateMap& s) override {
     const auto indices = [&](const char* name, std::vector<std::uint32_t>& out) {
       const auto& in = s.at(name);
@@ -116,7 +135,15 @@ struct NeighbourList : Stateful {
       for (std::size_t k = 0; k < in.size(); ++k) out[k] = static_cast<std::uint32_t>(in[k]);
     };
     indices("order", order);
-    indices("offsets", offsets);
+    if (s.count("pair_counts")) {
+      const auto& counts = s.at("pair_counts");
+      if (counts.size() != order.size()) throw std::invalid_argument("checkpoint neighbour lists are inconsistent");
+      offsets.assign(order.size() + 1, 0);
+      for (std::size_t m = 0; m < order.size(); ++m)
+        offsets[m + 1] = offsets[m] + static_cast<std::uint32_t>(counts[m]);
+    } else {
+      indices("offsets", offsets);  // written before the pair counts
+    }
     indices("list", list);
     indices("slabs", slabs);
     periodic_slabs = s.at("periodic_slabs").at(0) != 0.0;

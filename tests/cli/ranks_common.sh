@@ -110,16 +110,18 @@ terminated() {
   fi
 }
 
-# no_gather FILE STEP OBSERVER: OBSERVER ran at least twice and STEP never
-# gathered the system onto rank 0 (its profile row STEP.gather).
+# no_gather FILE STEP OBSERVER [LEAST]: OBSERVER ran at least LEAST times
+# (default 2) and STEP never gathered the system onto rank 0 (its profile
+# row STEP.gather).
 no_gather() {
   /usr/bin/python3 - "$@" <<'PY' || failures=$((failures + 1))
 import h5py, sys
 path, step, observer = sys.argv[1:4]
+least = int(sys.argv[4]) if len(sys.argv) > 4 else 2
 profile = h5py.File(path, 'r')['profile']
 calls = {s.decode(): c for s, c in zip(profile['system'][()], profile['calls'][()])}
 observed = calls.get(observer, 0)
-if observed < 2: sys.exit(f"FAIL: {path}: {observer} ran {observed} times")
+if observed < least: sys.exit(f"FAIL: {path}: {observer} ran {observed} times")
 gathers = calls.get(f'{step}.gather')
 if gathers != 0: sys.exit(f"FAIL: {path}: the observers gathered the system {gathers} times")
 print(f"ok: {path}: {observed} observations, no gather")
