@@ -61,7 +61,7 @@ void build(Run& run) {
   if (!stored)
     sites = dem::divided_bed_sites(box, divider_x, n, radius,
                                    (c.text("shaking.motion") == "wiggle" ? 2.0 : 1.0) * amplitude);
-  run.initial_state([&](World& world) {
+  dem::start_or_resume(run, [&](World& world) {
     if (stored) {
       dem::add_spheres(world, n, radius, mass);
       place_stored_state<D>(world, box, {false, false, false}, stored_state_of(c), dem::stored_state_limits);

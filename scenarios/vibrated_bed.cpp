@@ -61,7 +61,7 @@ void build(Run& run) {
     sites.resize(n);
   }
   const double temperature = c.real("bed.temperature");
-  run.initial_state([&](World& world) {
+  dem::start_or_resume(run, [&](World& world) {
     if (stored) {
       dem::add_spheres(world, n, radius, mass);
       place_stored_state<D>(world, box, {true, true, false}, stored_state_of(c), dem::stored_state_limits);

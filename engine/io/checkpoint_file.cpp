@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
+#include <string_view>
 #include <vector>
 
 #include "engine/core/input_error.hpp"
@@ -87,9 +88,10 @@ class CheckpointWriter {
 }  // namespace
 
 bool holds_particle_rows(const std::string& name) {
-  constexpr std::string_view prefix = "world/", width = ".width";
-  return name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0 &&
-         !(name.size() >= width.size() && name.compare(name.size() - width.size(), width.size(), width) == 0);
+  constexpr std::string_view prefix = "world/", width = ".width", kept = "kept/", rows = "/rows/";
+  const std::string_view n = name;
+  if (n.starts_with(kept)) return n.find(rows) != std::string_view::npos;
+  return n.size() > prefix.size() && n.starts_with(prefix) && !n.ends_with(width);
 }
 
 void write_checkpoint(const std::string& path, const std::string& scenario, const Config& config,

@@ -25,8 +25,10 @@ namespace granflow {
 void write_checkpoint(const std::string& path, const std::string& scenario, const Config& config,
                       const StateMap& state);
 
-// Whether a checkpoint array holds one row per particle: the World's
-// columns, "world/<key>" (not their ".width").
+// Whether a checkpoint array holds one row per particle, or per item of a
+// rank's part that a kept object gives (Stateful::state_rows): the World's
+// columns, "world/<key>" (not their ".width"), and a kept object's
+// "kept/<name>/rows/<key>".
 bool holds_particle_rows(const std::string& name);
 
 // This rank's rows of the particle arrays: `count` rows of each, or as many

@@ -55,7 +55,19 @@ void Run::initial_state(const std::function<void(World&)>& create, const OwnedOn
       return n == 0 ? std::size_t{0} : values / n;
     };
     const std::string position = "world/" + owned.position;
-    if (owned.owns && sizes.count(position)) {
+    if (owned.rows) {
+      // This rank's range of the rows of every column.
+      const auto [first, count] = *owned.rows;
+      if (first + count > n)
+        throw std::invalid_argument(fmt::format("checkpoint rows {}..{} asked of {}", first, first + count, n));
+      for (const auto& [name, values] : sizes)
+        if (name.starts_with("world/")) {
+          const std::size_t w = width_of(name);
+          columns[name.substr(6)] = resume_rows_->read(name, first * w, count * w);
+        }
+      kept = count;
+      resumed_by_part_ = true;
+    } else if (owned.owns && sizes.count(position)) {
       // This rank's rows, found by their positions, block by block; then
       // the same rows of the other columns.
       const std::size_t width = width_of(position);
@@ -72,7 +84,7 @@ void Run::initial_state(const std::function<void(World&)>& create, const OwnedOn
           }
       }
       for (const auto& [name, values] : sizes) {
-        if (name == position) continue;
+        if (name == position || !name.starts_with("world/")) continue;
         const std::size_t w = width_of(name);
         std::vector<double>& out = columns[name.substr(6)];
         out.reserve(mine.size() * w);
@@ -89,12 +101,22 @@ void Run::initial_state(const std::function<void(World&)>& create, const OwnedOn
       kept = mine.size();
       resumed_by_part_ = true;
     } else {
-      for (const auto& [name, values] : sizes) columns[name.substr(6)] = resume_rows_->read(name, 0, values);
+      for (const auto& [name, values] : sizes)
+        if (name.starts_with("world/")) columns[name.substr(6)] = resume_rows_->read(name, 0, values);
     }
   }
   world_.restore_columns(kept, columns);
   for (const auto& [name, value] : state_under(*resume_, "derived"))
     if (value.size() == 1) derived_.emplace_back(name, value[0]);
+}
+
+StateMap Run::kept_state_with_rows(const std::string& name) const {
+  StateMap state = state_under(*resume_, "kept/" + name);
+  if (!resume_rows_ || resumed_by_part_) return state;
+  const std::string head = "kept/" + name + "/";
+  for (const auto& [array, values] : resume_rows_->sizes())
+    if (array.starts_with(head)) state[array.substr(head.size())] = resume_rows_->read(array, 0, values);
+  return state;
 }
 
 void Run::derive(const std::string& name, double value) {
@@ -429,6 +451,12 @@ RunOutcome Run::execute(const std::atomic<bool>* interrupt, const std::function<
       stop.round_time = round_time_;
       stop.round_step = round_step_;
       stop.before = written();
+      // Over ranks a step may hold what its last step owes kept objects (the
+      // soft spheres' energy terms, added at the next gather): lending the
+      // part settles it, as the checkpoint's own lending will, so that the
+      // state kept here is not short of it.
+      if (communicator_ && communicator_->size() > 1)
+        if (System* const lending = lend_part(false)) take_back_part(*lending);
       for (const auto& [name, object] : kept_) stop.kept_before.emplace_back(name, object->save_state());
       fire(control.stop, target_time, target_step, Firing::set_by_stop);
     } else {

@@ -69,14 +69,18 @@ class Run {
   // domain's), told by their position (the `position` column's row): they
   // are read from the checkpoint by block, and no rank holds the whole.
   // The World then holds them in the checkpoint's order (resumed_by_part).
+  // Or, where the domain is a range of the checkpoint's order, the rows
+  // [first, first + count) of it (`rows`).
   struct OwnedOnResume {
     std::string position;
     std::function<bool(const double* position)> owns;
+    std::optional<std::pair<std::size_t, std::size_t>> rows;
   };
   void initial_state(const std::function<void(World&)>& create, const OwnedOnResume& owned);
   bool resumed_by_part() const { return resumed_by_part_; }
   // A kept object's state in the checkpoint being resumed (empty on a fresh
   // run), before the object exists.
+  StateMap kept_state_with_rows(const std::string& name) const;
   StateMap kept_state(const std::string& name) const {
     return resume_ ? state_under(*resume_, "kept/" + name) : StateMap{};
   }
@@ -89,11 +93,13 @@ class Run {
   const std::map<std::string, std::string>& observable_units() const { return observable_units_; }
 
   // Registers an object whose state a checkpoint carries; when resuming it is
-  // restored at once. The object must outlive the run.
+  // restored at once. The object must outlive the run. Its rows that the
+  // checkpoint left in the file come with it, unless the World was resumed
+  // by part: the object's owner then reads its part of them.
   template <class S>
   S& keep(const std::string& name, S& object) {
     kept_.emplace_back(name, &object);
-    if (resume_) object.restore_state(state_under(*resume_, "kept/" + name));
+    if (resume_) object.restore_state(kept_state_with_rows(name));
     return object;
   }
 
@@ -166,6 +172,7 @@ class Run {
   // The particle arrays a resumed run's checkpoint left in the file
   // (read_checkpoint's `rows`), or none.
   void resume_rows(const CheckpointRows* rows) { resume_rows_ = rows; }
+  const CheckpointRows* resumed_rows() const { return resume_rows_; }
   void write_results(const RunOutcome& outcome);  // box, derived, particle constants, hooks, stop reason
   double progress_fraction() const;
   double work_done() const { return work_ ? work_() : static_cast<double>(world_.resource<Clock>().step); }

@@ -6,11 +6,13 @@
 // as the step's balance splits it. The step then starts from the parts
 // (DemDomainStep): it settles the slabs, passes on any sphere another rank
 // owns, and builds the lists and the first forces over the ranks. A resumed
-// run or a stored start still reads the whole on every rank.
+// run reads its part too (resumed_part.hpp); a stored start still reads the
+// whole on every rank.
 
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "components/box.hpp"
@@ -29,6 +31,15 @@ namespace granflow::dem {
 struct BedByPart {
   static constexpr const char* key = "dem_bed_by_part";
   std::size_t spheres = 0;
+};
+
+// In the World of a rank that resumed only its part (resumed_part.hpp).
+struct ResumedPart {
+  static constexpr const char* key = "dem_resumed_part";
+  std::size_t spheres = 0;                // the whole system's
+  std::size_t first = 0, count = 0;       // the spheres' rows read: [first, first + count)
+  std::size_t first_pair = 0, pairs = 0;  // and their pairs'
+  std::vector<std::int64_t> bounds;       // the slabs they were read for
 };
 
 // The whole system's list cells, whose layers along z the ranks' slabs are

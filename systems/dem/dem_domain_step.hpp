@@ -23,8 +23,9 @@
 //
 // A fresh bed starts from the part each rank made (bed_by_part.hpp): the
 // slabs are settled by sphere count, and the first lists and forces are
-// built over the ranks as a build does; a resumed run or a stored start
-// scatters the whole that every rank read.
+// built over the ranks as a build does; a resumed run starts from the rows
+// of the layers each rank holds, which it read of the checkpoint
+// (resumed_part.hpp); a stored start scatters the whole every rank read.
 //
 // Every sphere's force is summed as on one rank, bit for bit: a rank holds
 // its spheres in the whole system's cell order (each carries its index in
@@ -121,7 +122,7 @@ struct DemDomainBalance {
 };
 
 using DemDomainStepBase =
-    SystemOf<Reads<Box<3>, DemWatch<3>, BedByPart>,
+    SystemOf<Reads<Box<3>, DemWatch<3>, BedByPart, ResumedPart>,
              Writes<EveryColumn, Clock, NeighbourList<3>, DemInteractions<3>, DemLedger, RunControl>>;
 
 class DemDomainStep : public DemDomainStepBase {
@@ -364,13 +365,24 @@ class DemDomainStep : public DemDomainStepBase {
     release_whole(view);
   }
 
+  // The whole system that every rank read (a stored start), or the rows of
+  // the layers this rank holds that a resumed run read (ResumedPart, with
+  // the lists in the whole system's numbering): the same spheres and lists.
   void scatter(View view) {
     const auto& whole_nl = view.template read<NeighbourList<3>>();
+    const ResumedPart* part = view.template has<ResumedPart>() ? &view.template read<ResumedPart>() : nullptr;
     const std::size_t layers = static_cast<std::size_t>(grid_.cells(2));
-    if (!whole_nl.built() || whole_nl.slabs.size() != layers + 1 || !whole_nl.reorder)
+    if ((part ? !whole_nl.part_of_whole : !whole_nl.built()) || whole_nl.slabs.size() != layers + 1 ||
+        !whole_nl.reorder)
       throw std::logic_error("the soft-sphere step over ranks needs the whole system's lists built in cell order");
     take_settings(view);
-    if (balance_.every_steps > 0) {
+    if (part) {
+      if (part->bounds != slab_.bounds)
+        spdlog::info("step {}: the slabs now start at layers [{}] of {} (two per sphere, one per pair)",
+                     local_.resource<Clock>().step, fmt::join(part->bounds.begin(), part->bounds.end() - 1, ", "),
+                     slab_.cells);
+      slab_.bounds = part->bounds;
+    } else if (balance_.every_steps > 0) {
       std::vector<double> per_layer(layers);
       for (std::size_t s = 0; s < layers; ++s)
         per_layer[s] = layer_load(whole_nl.slabs[s + 1] - whole_nl.slabs[s],
@@ -380,6 +392,10 @@ class DemDomainStep : public DemDomainStepBase {
     auto& nl = local_.resource<NeighbourList<3>>();
     const auto [first, end] = held_layers();
     const std::uint32_t base = whole_nl.slabs[first], count = whole_nl.slabs[end] - base;
+    if (part && (part->first != base || part->count != count))
+      throw std::logic_error("the resumed part is not the layers this rank holds");
+    // Where the held spheres start in the World and its lists.
+    const std::uint32_t from = part ? 0 : base;
     below_ = whole_nl.slabs[slab_.low()] - base;
     first_own_index_ = whole_nl.slabs[slab_.low()];
     owned_ = whole_nl.slabs[slab_.high()] - whole_nl.slabs[slab_.low()];
@@ -392,12 +408,12 @@ class DemDomainStep : public DemDomainStepBase {
     const auto& mass = view.template read<Mass>();
     const auto& radius = view.template read<Radius>();
     for (std::uint32_t k = 0; k < count; ++k) {
-      const std::uint32_t i = base + k;
+      const std::uint32_t i = from + k;
       x[k] = view.template read<Position<3>>()[i];
       v[k] = view.template read<Velocity<3>>()[i];
       f[k] = view.template read<Force<3>>()[i];
       id[k] = view.template read<ParticleId>()[i];
-      index[k] = static_cast<double>(i);
+      index[k] = static_cast<double>(base + k);
       local_.component<Mass>()[k] = mass[i];
       local_.component<Radius>()[k] = radius[i];
       if (images_) local_.component<ImageCount<3>>()[k] = view.template read<ImageCount<3>>()[i];
@@ -418,7 +434,7 @@ class DemDomainStep : public DemDomainStepBase {
     nl.shear.clear();
     for (std::uint32_t m = 0; m < count; ++m) {
       if (m < listed_end) {
-        for (std::uint32_t p = whole_nl.offsets[base + m]; p < whole_nl.offsets[base + m + 1]; ++p) {
+        for (std::uint32_t p = whole_nl.offsets[from + m]; p < whole_nl.offsets[from + m + 1]; ++p) {
           nl.list.push_back(whole_nl.list[p] - base);
           if (nl.keeps_history) nl.shear.push_back(whole_nl.shear[p]);
         }
@@ -428,10 +444,10 @@ class DemDomainStep : public DemDomainStepBase {
     nl.slabs.clear();
     for (std::size_t s = first; s <= end; ++s) nl.slabs.push_back(whole_nl.slabs[s] - base);
     nl.periodic_slabs = false;
-    nl.reference.assign(whole_nl.reference.begin() + base, whole_nl.reference.begin() + base + count);
+    nl.reference.assign(whole_nl.reference.begin() + from, whole_nl.reference.begin() + from + count);
     if (nl.keeps_history)
-      nl.wall_shear.assign(whole_nl.wall_shear.begin() + static_cast<std::ptrdiff_t>(base * walls_),
-                           whole_nl.wall_shear.begin() + static_cast<std::ptrdiff_t>((base + count) * walls_));
+      nl.wall_shear.assign(whole_nl.wall_shear.begin() + static_cast<std::ptrdiff_t>(from * walls_),
+                           whole_nl.wall_shear.begin() + static_cast<std::ptrdiff_t>((from + count) * walls_));
     nl.derive();
     first_layer_ = first;
     move_own_only(nl);
@@ -499,10 +515,10 @@ class DemDomainStep : public DemDomainStepBase {
   }
 
   void move_bounds_if_uneven(const std::vector<double>& per_layer) {
+    if (!SlabDomain::uneven(per_layer, slab_.bounds, balance_.threshold)) return;
     const std::vector<double> loads = SlabDomain::loads(per_layer, slab_.bounds);
     const double total = std::accumulate(loads.begin(), loads.end(), 0.0);
     const double busiest = *std::max_element(loads.begin(), loads.end());
-    if (!(total > 0.0 && busiest > balance_.threshold * total / static_cast<double>(slab_.ranks))) return;
     const auto bounds = SlabDomain::balanced(per_layer, slab_.ranks);
     if (bounds == slab_.bounds) return;
     slab_.bounds = bounds;

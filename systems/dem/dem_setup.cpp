@@ -86,7 +86,9 @@ void add_domain_step(Run& run, const std::array<bool, 3>& periodic, double dt) {
   const auto& radii = world.component<Radius>().values;
   const double largest =
       -run.communicator()->least_across({radii.empty() ? 0.0 : -*std::max_element(radii.begin(), radii.end())}).front();
-  const std::size_t spheres = world.has_resource<BedByPart>() ? world.resource<BedByPart>().spheres : world.size();
+  const std::size_t spheres = world.has_resource<BedByPart>()     ? world.resource<BedByPart>().spheres
+                              : world.has_resource<ResumedPart>() ? world.resource<ResumedPart>().spheres
+                                                                  : world.size();
   const auto& box = world.resource<Box<3>>();
   const CellGrid<3> layers =
       domain_layers(box.length, box.periodic, largest, world.resource<NeighbourList<3>>().skin, spheres);
@@ -187,7 +189,8 @@ double add_dem_step(Run& run, const std::array<double, 3>& box, const std::array
   run.keep("energy", ledger);
   // The lists as they were, so a resumed run rebuilds (and reorders) when the
   // uninterrupted one would, and the friction springs carry over.
-  run.keep("neighbours", neighbours);
+  run.keep(kept_lists, neighbours);
+  if (world.has_resource<ResumedPart>()) read_lists_of_part(run, world.resource<ResumedPart>(), neighbours);
   if (!run.resuming() && !by_part) {
     // A resumed run has its lists, forces and torques from the checkpoint
     // (evaluating them again would stretch the friction springs twice); a

@@ -36,6 +36,7 @@
 #include "systems/dem/dem_energy.hpp"
 #include "systems/dem/dem_watchdog.hpp"
 #include "systems/dem/neighbour_list.hpp"
+#include "systems/dem/resumed_part.hpp"
 #include "systems/dem/time_step.hpp"
 #include "systems/geometry/slab_domain.hpp"
 #include "systems/initial/stored_start.hpp"

@@ -103,65 +103,84 @@ struct NeighbourList : Stateful {
   std::pair<std::uint32_t, std::uint32_t> pairs_of(std::size_t i) const { return {offsets[rank[i]], offsets[rank[i] + 1]}; }
 
   // Per sphere in cell order its pair count rather than the offsets, so
-  // that the ranks' rows of a part_of_whole follow one another.
+  // that the ranks' rows of a part_of_whole follow one another. The arrays
+  // of a row per sphere or per pair are named rows/..., which a checkpoint
+  // read over ranks leaves in the file (holds_particle_rows) for each rank
+  // to read its part (resumed_part.hpp).
   StateMap save_state() const override {
     StateMap s;
-    s["order"].assign(order.begin(), order.end());
-    auto& counts = s["pair_counts"];
+    s["rows/order"].assign(order.begin(), order.end());
+    auto& counts = s["rows/pair_counts"];
     counts.resize(order.size());
     for (std::size_t m = 0; m < order.size(); ++m) counts[m] = offsets[m + 1] - offsets[m];
-    s["list"].assign(list.begin(), list.end());
+    s["rows/list"].assign(list.begin(), list.end());
     s["slabs"].assign(slabs.begin(), slabs.end());
     s["periodic_slabs"] = {periodic_slabs ? 1.0 : 0.0};
-    s["reference"] = flatten_vectors(reference);
-    for (const char* name : {"shear", "wall_shear"}) {
-      const auto& from = name[0] == 's' ? shear : wall_shear;
-      auto& to = s[name];
-      for (const Shear& h : from) to.insert(to.end(), h.begin(), h.end());
-    }
+    s["rows/reference"] = flatten_vectors(reference);
+    s["rows/shear"] = flatten_shears(shear);
+    s["rows/wall_shear"] = flatten_shears(wall_shear);
     s["builds"] = {static_cast<double>(builds)};
     return s;
   }
   std::map<std::string, std::size_t> state_rows() const override {
     if (!part_of_whole) return {};
     const std::size_t spheres = order.size(), pairs = list.size();
-    return {{"order", spheres}, {"pair_counts", spheres}, {"reference", spheres}, {"wall_shear", spheres},
-            {"list", pairs},    {"shear", pairs}};
+    return {{"rows/order", spheres}, {"rows/pair_counts", spheres}, {"rows/reference", spheres},
+            {"rows/wall_shear", spheres}, {"rows/list", pairs}, {"rows/shear", pairs}};
   }
+  // A state without the rows (a run resumed by part over ranks, which
+  // reads its part of them itself) restores the slabs and the build count
+  // and leaves the lists unbuilt. Reads the names written before the rows
+  // were named so, too.
   void restore_state(const StateMap& s) override {
-    const auto indices = [&](const char* name, std::vector<std::uint32_t>& out) {
-      const auto& in = s.at(name);
+    const auto named = [&](const std::string& name) -> const std::vector<double>* {
+      for (const std::string& key : {"rows/" + name, name})
+        if (const auto found = s.find(key); found != s.end()) return &found->second;
+      return nullptr;
+    };
+    const auto indices = [&](const std::vector<double>& in, std::vector<std::uint32_t>& out) {
       out.assign(in.size(), 0);
       for (std::size_t k = 0; k < in.size(); ++k) out[k] = static_cast<std::uint32_t>(in[k]);
     };
-    indices("order", order);
-    if (s.count("pair_counts")) {
-      const auto& counts = s.at("pair_counts");
-      if (counts.size() != order.size()) throw std::invalid_argument("checkpoint neighbour lists are inconsistent");
+    const auto at = [&](const std::string& name) -> const std::vector<double>& {
+      if (const auto* values = named(name)) return *values;
+      throw std::invalid_argument("checkpoint neighbour lists lack '" + name + "'");
+    };
+    release();
+    indices(at("slabs"), slabs);
+    periodic_slabs = at("periodic_slabs").at(0) != 0.0;
+    builds = static_cast<std::uint64_t>(at("builds").at(0));
+    displacement_step = -1;
+    if (!named("order")) return;
+    indices(at("order"), order);
+    if (const auto* counts = named("pair_counts")) {
+      if (counts->size() != order.size()) throw std::invalid_argument("checkpoint neighbour lists are inconsistent");
       offsets.assign(order.size() + 1, 0);
       for (std::size_t m = 0; m < order.size(); ++m)
-        offsets[m + 1] = offsets[m] + static_cast<std::uint32_t>(counts[m]);
+        offsets[m + 1] = offsets[m] + static_cast<std::uint32_t>((*counts)[m]);
     } else {
-      indices("offsets", offsets);  // written before the pair counts
+      indices(at("offsets"), offsets);
     }
-    indices("list", list);
-    indices("slabs", slabs);
-    periodic_slabs = s.at("periodic_slabs").at(0) != 0.0;
+    indices(at("list"), list);
     reference.resize(order.size());
-    unflatten_vectors(s.at("reference"), reference, "neighbour-list reference positions");
-    for (const char* name : {"shear", "wall_shear"}) {
-      const auto& in = s.at(name);
-      if (in.size() % 3) throw std::invalid_argument("checkpoint shear history has the wrong size");
-      auto& to = name[0] == 's' ? shear : wall_shear;
-      to.assign(in.size() / 3, Shear{});
-      for (std::size_t k = 0; k < to.size(); ++k) to[k] = {in[3 * k], in[3 * k + 1], in[3 * k + 2]};
-    }
-    builds = static_cast<std::uint64_t>(s.at("builds").at(0));
-    displacement_step = -1;
+    unflatten_vectors(at("reference"), reference, "neighbour-list reference positions");
+    unflatten_shears(at("shear"), shear);
+    unflatten_shears(at("wall_shear"), wall_shear);
     if (offsets.size() != order.size() + 1 || list.size() != offsets.back() || slabs.empty() ||
         slabs.back() != order.size())
       throw std::invalid_argument("checkpoint neighbour lists are inconsistent");
     derive();
+  }
+  static std::vector<double> flatten_shears(const std::vector<Shear>& shears) {
+    std::vector<double> out;
+    out.reserve(3 * shears.size());
+    for (const Shear& h : shears) out.insert(out.end(), h.begin(), h.end());
+    return out;
+  }
+  static void unflatten_shears(const std::vector<double>& in, std::vector<Shear>& out) {
+    if (in.size() % 3) throw std::invalid_argument("checkpoint shear history has the wrong size");
+    out.assign(in.size() / 3, Shear{});
+    for (std::size_t k = 0; k < out.size(); ++k) out[k] = {in[3 * k], in[3 * k + 1], in[3 * k + 2]};
   }
   // rank, first and the domains, from order, offsets and slabs.
   void derive() {

@@ -73,6 +73,17 @@ struct SlabDomain {
     out.push_back(cells);
     return out;
   }
+  // Whether `bounds` leave the busiest rank more than `threshold` times
+  // the mean load (and there is a load at all).
+  static bool uneven(const std::vector<double>& per_layer, const std::vector<std::int64_t>& bounds, double threshold) {
+    const std::vector<double> each = loads(per_layer, bounds);
+    double total = 0.0, busiest = 0.0;
+    for (double load : each) {
+      total += load;
+      busiest = std::max(busiest, load);
+    }
+    return total > 0.0 && busiest > threshold * total / static_cast<double>(each.size());
+  }
   // Each rank's load under `bounds`, from the layers'.
   static std::vector<double> loads(const std::vector<double>& per_layer, const std::vector<std::int64_t>& bounds) {
     std::vector<double> out(bounds.empty() ? 0 : bounds.size() - 1, 0.0);
