@@ -205,7 +205,8 @@ class DemDomainStep : public DemDomainStepBase {
     for_each_column([&](auto column, auto&) {
       lendable += world.has_component<typename decltype(column)::type>() ? 1 : 0;
     });
-    if (lendable != world.column_count()) return false;
+    // Every rank decides alike, or some would gather while others lend.
+    if (ranks_.least_across({lendable == world.column_count() ? 1.0 : 0.0}).front() == 0.0) return false;
     book_pending_energy_terms(View(world));
     lent_from_size_ = world.size();
     for_each_column([&](auto column, auto& stash) {

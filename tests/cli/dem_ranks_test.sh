@@ -128,6 +128,16 @@ ranks 2 run "$deep" "${short_bed[@]}" --set run.t_stop=0.01 -o "$work/short_2to3
 ranks 3 run "$deep" "${short_bed[@]}" -o "$work/short_2to3.h5" --resume || fail "3-rank extension exited with $?"
 agree "$work/short_whole.h5" "$work/short_2to3.h5" 0
 
+# Equal slabs leave the upper ranks with no sphere: resumed on 3 ranks, each
+# reads its (empty) part, and all decide alike whether to lend it (they
+# once did not, and the run hung).
+equal=(-q --set output.final_checkpoint=true --set balance.every_steps=0 --set output.average_after=1)
+"$granflow" run "$bed" "${equal[@]}" --set run.t_stop=3 -o "$work/equal_whole.h5" || fail "one-rank reference exited with $?"
+ranks 3 run "$bed" "${equal[@]}" --set run.t_stop=2 -o "$work/equal_3.h5" || fail "3-rank first part exited with $?"
+timeout 120 "$mpiexec" -np 3 --oversubscribe --bind-to none "$granflow" run "$bed" "${equal[@]}" --set run.t_stop=3 \
+  -o "$work/equal_3.h5" --resume || fail "3-rank resume with empty ranks exited with $?"
+agree "$work/equal_whole.h5" "$work/equal_3.h5" 0
+
 # SIGINT on 2 ranks, finished on 3; a rank killed outright, resumed from
 # the last periodic checkpoint; SIGTERM to the last of 3 ranks alone,
 # finished on 2: all give the one-rank result bit for bit.
