@@ -453,10 +453,12 @@ RunOutcome Run::execute(const std::atomic<bool>* interrupt, const std::function<
       stop.before = written();
       // Over ranks a step may hold what its last step owes kept objects (the
       // soft spheres' energy terms, added at the next gather): lending the
-      // part settles it, as the checkpoint's own lending will, so that the
-      // state kept here is not short of it.
-      if (communicator_ && communicator_->size() > 1)
+      // part settles it, as the checkpoint's own lending will, and where the
+      // step cannot lend, the gather the checkpoint will then make.
+      if (communicator_ && communicator_->size() > 1) {
         if (System* const lending = lend_part(false)) take_back_part(*lending);
+        else synchronise_host();
+      }
       for (const auto& [name, object] : kept_) stop.kept_before.emplace_back(name, object->save_state());
       fire(control.stop, target_time, target_step, Firing::set_by_stop);
     } else {
